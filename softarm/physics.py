@@ -1,0 +1,157 @@
+"""Taichi simulator: many arms stepped together by semi-implicit Euler (MODEL.md, Forces, Integration).
+
+One kernel launch advances every arm a block of frames. The outer loop runs over arms in parallel;
+one arm's substeps are a tight serial loop, because ~160 springs are too few to split across threads
+on a CPU. Arrays are Taichi ndarrays with the arm (batch) dimension first, so the kernels compile
+once for any batch size and stay in the offline cache.
+"""
+
+from typing import Sequence
+
+import numpy as np
+import taichi as ti
+
+from softarm.body import Body
+from softarm.errors import SimulationError
+from softarm.excitation import Drive
+
+f64nd = ti.types.ndarray(dtype=ti.f64)
+i32nd = ti.types.ndarray(dtype=ti.i32)
+
+
+@ti.func
+def drive_at(t: ti.f64, amplitude: ti.f64, freqs: ti.template()) -> ti.math.vec2:
+    """(f(t), f'(t)) of the product of sines, by the product rule."""
+    value = amplitude
+    rate = 0.0
+    for n in range(freqs.shape[0]):
+        w = 2.0 * ti.math.pi * freqs[n]
+        s, c = ti.sin(w * t), ti.cos(w * t)
+        rate = rate * s + value * w * c
+        value = value * s
+    return ti.Vector([value, rate], ti.f64)
+
+
+@ti.func
+def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.template(), springs: ti.template(),
+                      rest_len: ti.template(), stiffness: ti.template(), damping: ti.template(),
+                      mass: ti.template(), gx: ti.f64, gy: ti.f64):
+    for i in range(x.shape[1]):
+        force[a, i, 0] = mass[i] * gx
+        force[a, i, 1] = mass[i] * gy
+    for s in range(springs.shape[0]):
+        i, j = springs[s, 0], springs[s, 1]
+        dx, dy = x[a, j, 0] - x[a, i, 0], x[a, j, 1] - x[a, i, 1]
+        length = ti.sqrt(dx * dx + dy * dy)
+        ux, uy = dx / length, dy / length
+        rate = (v[a, j, 0] - v[a, i, 0]) * ux + (v[a, j, 1] - v[a, i, 1]) * uy
+        magnitude = stiffness[s] * (length - rest_len[s]) + damping[s] * rate
+        # Plain read-modify-write: `+=` on an ndarray compiles to an atomic, needless in one arm's serial loop.
+        force[a, i, 0] = force[a, i, 0] + magnitude * ux
+        force[a, i, 1] = force[a, i, 1] + magnitude * uy
+        force[a, j, 0] = force[a, j, 0] - magnitude * ux
+        force[a, j, 1] = force[a, j, 1] - magnitude * uy
+
+
+@ti.kernel
+def advance_frames(x: f64nd, v: f64nd, force: f64nd, history: f64nd, status: i32nd,
+                   rest: f64nd, mass: f64nd, free: i32nd, springs: i32nd, rest_len: f64nd,
+                   stiffness: f64nd, damping: f64nd, amplitude: f64nd, time_offset: f64nd, freqs: f64nd,
+                   gx: ti.f64, gy: ti.f64, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
+                   frame_dt: ti.f64, blowup_distance: ti.f64):
+    """Record each arm's state as frames first_frame.. into history[:, :n_frames], stepping between them.
+
+    status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
+    arm stops stepping.
+    """
+    h = frame_dt / substeps
+    for a in range(x.shape[0]):
+        for f in range(n_frames):
+            for i in range(x.shape[1]):
+                history[a, f, i, 0] = x[a, i, 0]
+                history[a, f, i, 1] = x[a, i, 1]
+            if status[a, 0] < 0:
+                k = first_frame + f
+                for s in range(substeps):
+                    accumulate_forces(a, x, v, force, springs, rest_len, stiffness, damping, mass, gx, gy)
+                    t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + time_offset[a]
+                    drive = drive_at(t, amplitude[a], freqs)
+                    for i in range(x.shape[1]):
+                        if free[i]:
+                            for d in ti.static(range(2)):
+                                v[a, i, d] = v[a, i, d] + h * force[a, i, d] / mass[i]
+                                x[a, i, d] = x[a, i, d] + h * v[a, i, d]
+                        else:
+                            x[a, i, 0] = rest[i, 0] + drive[0]
+                            x[a, i, 1] = rest[i, 1]
+                            v[a, i, 0] = drive[1]
+                            v[a, i, 1] = 0.0
+                for i in range(x.shape[1]):
+                    dx, dy = x[a, i, 0] - rest[i, 0], x[a, i, 1] - rest[i, 1]
+                    if not (dx * dx + dy * dy <= blowup_distance * blowup_distance) and status[a, 0] < 0:
+                        status[a, 0] = k + 1
+                        status[a, 1] = i
+
+
+class Simulator:
+    """Owns the state of a batch of arms on the Taichi device and steps it block by block."""
+
+    def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
+                 blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100):
+        arms, n = len(drives), body.n_nodes
+        if len({d.frequencies for d in drives}) != 1:
+            raise ValueError("all arms of a batch share the excitation frequencies")
+        self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
+        self.arms, self.block_frames, self.frame = arms, block_frames, 0
+
+        def upload(array: np.ndarray, dtype) -> ti.Ndarray:
+            array = np.ascontiguousarray(array)
+            nd = ti.ndarray(dtype, array.shape)
+            nd.from_numpy(array)
+            return nd
+
+        self.x = upload(np.broadcast_to(positions, (arms, n, 2)).astype(np.float64), ti.f64)
+        self.v = upload(np.broadcast_to(velocities, (arms, n, 2)).astype(np.float64), ti.f64)
+        self.force = ti.ndarray(ti.f64, (arms, n, 2))
+        self.history = ti.ndarray(ti.f64, (arms, block_frames, n, 2))
+        self.status = upload(np.full((arms, 2), -1, np.int32), ti.i32)
+        self._model = (upload(body.rest, ti.f64), upload(body.masses, ti.f64),
+                       upload(body.free.astype(np.int32), ti.i32), upload(body.springs.astype(np.int32), ti.i32),
+                       upload(body.rest_lengths, ti.f64), upload(body.stiffness, ti.f64),
+                       upload(body.damping, ti.f64), upload(np.array([d.amplitude for d in drives]), ti.f64),
+                       upload(np.array([d.time_offset for d in drives]), ti.f64),
+                       upload(np.array(drives[0].frequencies, np.float64), ti.f64))
+
+    def step_block(self, n_frames: int) -> None:
+        """Fill `history[:, :n_frames]` with the next n_frames frames and step past them."""
+        if not 1 <= n_frames <= self.block_frames:
+            raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
+        gx, gy = self.body.gravity
+        advance_frames(self.x, self.v, self.force, self.history, self.status, *self._model,
+                       float(gx), float(gy), self.frame, n_frames, self.substeps, self.frame_dt,
+                       self.blowup_distance)
+        self.frame += n_frames
+        self._raise_on_blowup()
+
+    def advance(self, n_frames: int) -> np.ndarray:
+        """(arms, n_frames, N, 2) positions at the next n_frames frame times, float64."""
+        out = []
+        while n_frames > 0:
+            block = min(n_frames, self.block_frames)
+            self.step_block(block)
+            out.append(self.history.to_numpy()[:, :block])
+            n_frames -= block
+        return np.concatenate(out, axis=1)
+
+    def _raise_on_blowup(self) -> None:
+        status = self.status.to_numpy()
+        bad = np.flatnonzero(status[:, 0] >= 0)
+        if len(bad) == 0:
+            return
+        arm = bad[np.argmin(status[bad, 0])]
+        frame, node = status[arm]
+        where = f" (arm {arm})" if self.arms > 1 else ""
+        raise SimulationError(
+            f"the simulation blew up at t = {frame * self.frame_dt:.2f} s{where}: node {node} went further than "
+            f"integration.blowup_distance = {self.blowup_distance} m from rest (or became NaN); "
+            f"raise integration.substeps (now {self.substeps}) or lower excitation.amplitude")

@@ -1,0 +1,159 @@
+"""`simulate`: a batch of arms from config to recordings (physics -> camera -> sensors -> MCAP), block by block."""
+
+import signal
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterator, Optional, Union
+
+import numpy as np
+
+from softarm.body import build_body, hanging_equilibrium, initial_state, max_stable_substep
+from softarm.config import Config
+from softarm.errors import ConfigError, OutputError
+from softarm.excitation import drive_for_seed
+from softarm.physics import Simulator
+from softarm.raster import Rasteriser
+from softarm.recorder import RecordingWriter, model_metadata
+from softarm.runtime import init_taichi
+from softarm.sensors import stretch
+
+DEFAULT_FOLDER = Path("recordings")
+
+
+@dataclass(frozen=True)
+class SimResult:
+    paths: list[Path]
+    frames: int           # frames written to each file
+    complete: bool        # False when the run was interrupted
+    wall_seconds: float
+    simulated_seconds: float
+
+    @property
+    def bytes(self) -> int:
+        return sum(p.stat().st_size for p in self.paths)
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated seconds per wall-clock second, over all arms."""
+        return len(self.paths) * self.simulated_seconds / self.wall_seconds
+
+
+def output_paths(config: Config, out: Union[str, Path, None] = None) -> list[Path]:
+    """One file per arm: `out` itself for one arm, `<stem>_arm<i>.mcap` for a batch; default recordings/seed<s>.mcap."""
+    seeds = [config.run.seed + i for i in range(config.run.arms)]
+    if out is None:
+        return [DEFAULT_FOLDER / f"seed{s}.mcap" for s in seeds]
+    out = Path(out)
+    if config.run.arms == 1:
+        return [out]
+    return [out.with_name(f"{out.stem}_arm{i}{out.suffix or '.mcap'}") for i in range(config.run.arms)]
+
+
+def check_outputs(paths: list[Path], force: bool) -> None:
+    """Refuse before any work: an existing file (unless force), a parent that is a file or is read-only."""
+    for path in paths:
+        if path.is_dir():
+            raise OutputError(f"output {path} is a folder; give a file name ending in .mcap")
+        if path.exists() and not force:
+            raise OutputError(f"output {path} already exists; pass --force to overwrite it")
+        parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
+        if not parent.is_dir():
+            raise OutputError(f"cannot write {path}: {parent} is a file, not a folder")
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise OutputError(f"cannot create the folder of {path}: {e.strerror}") from None
+        probe = path.with_name(path.name + ".part")
+        try:
+            probe.touch()
+            probe.unlink()
+        except OSError as e:
+            raise OutputError(f"cannot write {path}: {e.strerror}") from None
+
+
+def check_step(config: Config, h_max: float) -> None:
+    """Refuse a substep above the stability limit of semi-implicit Euler, naming the substeps that work."""
+    dt = config.integration.frame_dt
+    substeps = config.integration.substeps
+    if dt / substeps > h_max:
+        needed = int(np.ceil(dt / h_max))
+        raise ConfigError(
+            f"config key 'integration.substeps' = {substeps} is unstable: a step of {1e3 * dt / substeps:.3g} ms "
+            f"exceeds the stability limit {1e3 * h_max:.3g} ms of these springs and masses; "
+            f"use integration.substeps >= {needed} (or --substeps {needed})")
+
+
+@contextmanager
+def stop_on_signal() -> Iterator[list[int]]:
+    """Turn Ctrl-C (and SIGTERM) into a flag the loop checks between blocks, so no frame is half written."""
+    caught: list[int] = []
+    handlers = {}
+
+    def handle(signum: int, _frame: object) -> None:
+        caught.append(signum)
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        try:
+            handlers[sig] = signal.signal(sig, handle)
+        except ValueError:  # not the main thread: leave signals alone
+            pass
+    try:
+        yield caught
+    finally:
+        for sig, old in handlers.items():
+            signal.signal(sig, old)
+
+
+def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = False, arch: str = "cpu",
+             progress: Optional[Callable[[int], None]] = None, block_frames: int = 100) -> SimResult:
+    """Run config.run.arms arms for config.run.duration seconds and record each to its MCAP file.
+
+    `progress(frames_done)` is called after every block. Ctrl-C stops at the next block boundary and
+    closes every file with complete = "false"; any error removes every file of the run.
+    """
+    start = time.perf_counter()
+    paths = output_paths(config, out)
+    check_outputs(paths, force)
+    body = build_body(config)
+    check_step(config, max_stable_substep(body))
+    init_taichi(arch)
+
+    seeds = [config.run.seed + i for i in range(config.run.arms)]
+    drives = [drive_for_seed(config.excitation, s) for s in seeds]
+    hanging = hanging_equilibrium(body)
+    starts = [initial_state(hanging, float(d.displacement(0.0)), float(d.velocity(0.0))) for d in drives]
+    integ = config.integration
+    block_frames = min(block_frames, config.n_frames)
+    sim = Simulator(body, drives, integ.frame_dt, integ.substeps, integ.blowup_distance,
+                    np.stack([p for p, _ in starts]), np.stack([v for _, v in starts]), block_frames)
+    camera = Rasteriser(config.camera, body.outline, len(drives), block_frames)
+
+    writers: list[RecordingWriter] = []
+    try:
+        for path, drive, seed, (p0, v0) in zip(paths, drives, seeds, starts):
+            writers.append(RecordingWriter(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt))
+        done = 0
+        with stop_on_signal() as caught:
+            while done < config.n_frames and not caught:
+                n = min(block_frames, config.n_frames - done)
+                sim.step_block(n)
+                images = camera.render(sim.history, n)
+                positions = sim.history.to_numpy()[:, :n]
+                readings = stretch(positions, body.rest, body.sensors)
+                times = np.arange(done, done + n) * integ.frame_dt
+                for arm, writer in enumerate(writers):
+                    writer.write(images[arm], readings[arm], positions[arm], drives[arm].displacement(times))
+                done += n
+                if progress:
+                    progress(done)
+            complete = not caught
+        for writer in writers:
+            writer.close(complete)
+    except BaseException:
+        for writer in writers:
+            writer.discard()
+        raise
+    return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,
+                     simulated_seconds=done * integ.frame_dt)

@@ -1,0 +1,68 @@
+"""The Taichi simulator against the NumPy reference (same scheme, float64) and against analytic physics."""
+
+import numpy as np
+import pytest
+
+from oscillator import REST_LENGTH, STILL, analytic_rates, measured_rates, one_spring, pulled
+from softarm.body import build_body, hanging_equilibrium
+from softarm.config import load_config
+from softarm.errors import SimulationError
+from softarm.excitation import drive_for_seed
+from softarm.physics import Simulator
+from softarm.reference import simulate_reference
+
+
+def default_run(config, drives):
+    """A Simulator of the config's body, hanging at rest at t = 0, one arm per drive."""
+    body = build_body(config)
+    x = hanging_equilibrium(body)
+    i = config.integration
+    return Simulator(body, drives=drives, frame_dt=i.frame_dt, substeps=i.substeps,
+                     blowup_distance=i.blowup_distance, positions=x, velocities=np.zeros_like(x))
+
+
+@pytest.mark.parametrize("seed", [0, 1])  # seed 1 checks the time offset t0 (about 51 s) too
+def test_default_arm_matches_the_numpy_reference_over_two_seconds(seed):
+    # Two seconds: from about 4 s on the default run folds its tip cells and turns chaotic, and
+    # roundoff (1e-16 m) grows to centimetres by 8 s, so a longer horizon would compare chaos.
+    config = load_config()
+    body, drive = build_body(config), drive_for_seed(config.excitation, seed)
+    x = hanging_equilibrium(body)
+    i = config.integration
+    expected = simulate_reference(body, drive, x, np.zeros_like(x), i.frame_dt, i.substeps, 200)
+    got = default_run(config, [drive]).advance(200)[0]
+    assert np.abs(expected - x).max() > 1e-2  # the drive really moves the arm
+    assert np.abs(got - expected).max() < 1e-7
+
+
+def test_each_arm_of_a_batch_equals_its_single_arm_run():
+    config = load_config()
+    drives = [drive_for_seed(config.excitation, seed) for seed in range(3)]
+    batch = default_run(config, drives).advance(150)
+    for arm, drive in enumerate(drives):
+        single = default_run(config, [drive]).advance(150)[0]
+        assert np.abs(batch[arm] - single).max() <= 1e-12
+    assert np.abs(batch[1] - batch[0]).max() > 1e-3  # the seeds really differ
+
+
+def test_one_mass_rings_at_the_damped_frequency_and_decays_at_zeta_w0():
+    body = one_spring()
+    frame_dt, n_frames = 2e-4, 501  # 0.1 s, five periods, 100 samples a period
+    sim = Simulator(body, drives=[STILL], frame_dt=frame_dt, substeps=4, blowup_distance=0.5,
+                    positions=pulled(body, 1e-3), velocities=np.zeros((2, 2)))
+    out = sim.advance(n_frames)[0]
+
+    assert np.all(out[:, 1, 0] == 0.0)
+    w_d, decay = measured_rates(np.arange(n_frames) * frame_dt, out[:, 1, 1] + REST_LENGTH)
+    expected_w_d, expected_decay = analytic_rates()
+    assert w_d == pytest.approx(expected_w_d, rel=5e-3)
+    assert decay == pytest.approx(expected_decay, rel=1e-2)
+
+
+@pytest.mark.parametrize("overrides", [{"excitation.amplitude": 50.0}, {"integration.substeps": 2}],
+                         ids=["huge_amplitude", "too_few_substeps"])
+def test_blow_up_stops_the_run_naming_time_node_and_substeps(overrides):
+    config = load_config(overrides=overrides)
+    sim = default_run(config, [drive_for_seed(config.excitation, 0)])
+    with pytest.raises(SimulationError, match=r"t = \d+\.\d+ s.*node \d+.*substeps"):
+        sim.advance(300)
