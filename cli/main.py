@@ -6,8 +6,8 @@ from typing import Annotated, Callable, Optional, TypeVar
 
 import typer
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
+from cli.progress import LazyProgress
 from softarm import __version__
 from softarm.config import DEFAULT_CONFIG_TEXT, load_config
 from softarm.errors import SoftarmError
@@ -31,13 +31,6 @@ def run_or_exit(action: Callable[[], T]) -> T:
     except OSError as e:
         err.print(f"error: {e.strerror or e}" + (f": {e.filename}" if e.filename else ""), markup=False)
         raise typer.Exit(1) from None
-
-
-def frame_progress(quiet: bool, label: str) -> Progress:
-    columns = [TextColumn(label), BarColumn(), MofNCompleteColumn(), TextColumn("frames"),
-               TextColumn("{task.fields[rate]}"),
-               TimeElapsedColumn(), TimeRemainingColumn()]
-    return Progress(*columns, console=err, disable=quiet, transient=False)
 
 
 def version_callback(value: bool) -> None:
@@ -83,14 +76,8 @@ def sim(
     overrides = {"run.duration": duration, "excitation.amplitude": amplitude, "integration.substeps": substeps,
                  "run.arms": arms, "run.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
-    with frame_progress(quiet, "simulating") as bar:
-        task = bar.add_task("sim", total=cfg.n_frames, rate="")
-
-        def update(done: int) -> None:
-            elapsed = bar.tasks[task].elapsed or 1e-9
-            bar.update(task, completed=done, rate=f"{done * cfg.run.arms / elapsed:,.0f} frames/s")
-
-        result = run_or_exit(lambda: simulate(cfg, out_path, force=force, arch=arch, progress=update))
+    with LazyProgress(err, "simulating", cfg.n_frames, "frames", scale=cfg.run.arms, quiet=quiet) as bar:
+        result = run_or_exit(lambda: simulate(cfg, out_path, force=force, arch=arch, progress=bar.update))
     files = ", ".join(str(p) for p in result.paths)
     size = result.bytes / 1e6
     if not result.complete:

@@ -86,9 +86,10 @@ def advance_frames(x: f64nd, v: f64nd, force: f64nd, history: f64nd, status: i32
                             x[a, i, 1] = rest[i, 1]
                             v[a, i, 0] = drive[1]
                             v[a, i, 1] = 0.0
-                for i in range(x.shape[1]):
+                for i in range(x.shape[1]):  # free nodes only: the driven ones go where the drive puts them
                     dx, dy = x[a, i, 0] - rest[i, 0], x[a, i, 1] - rest[i, 1]
-                    if not (dx * dx + dy * dy <= blowup_distance * blowup_distance) and status[a, 0] < 0:
+                    far = not (dx * dx + dy * dy <= blowup_distance * blowup_distance)  # NaN is far too
+                    if free[i] and far and status[a, 0] < 0:
                         status[a, 0] = k + 1
                         status[a, 1] = i
 
@@ -152,6 +153,6 @@ class Simulator:
         frame, node = status[arm]
         where = f" (arm {arm})" if self.arms > 1 else ""
         raise SimulationError(
-            f"the simulation blew up at t = {frame * self.frame_dt:.2f} s{where}: node {node} went further than "
+            f"the simulation blew up at t = {frame * self.frame_dt:.6g} s{where}: node {node} went further than "
             f"integration.blowup_distance = {self.blowup_distance} m from rest (or became NaN); "
             f"raise integration.substeps (now {self.substeps}) or lower excitation.amplitude")

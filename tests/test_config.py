@@ -1,0 +1,51 @@
+"""Config loading: defaults reproduce the paper, files and overrides merge, bad values name their key."""
+
+import pytest
+
+from softarm.config import DEFAULT_CONFIG_TEXT, config_from_dict, load_config
+from softarm.errors import ConfigError
+
+
+def test_defaults_are_the_papers_constants():
+    c = load_config()
+    assert (c.body.rows * c.body.columns, c.body.node_mass) == (57, 0.01)
+    assert (c.springs.stiffness, c.springs.damping) == (1000.0, 0.9)
+    assert c.excitation.frequencies == (2.11, 3.73, 4.33)
+    assert (c.camera.height, c.camera.width, c.integration.frame_dt, c.n_frames) == (84, 52, 0.01, 10000)
+    assert len(c.sensors.pairs) == 4
+
+
+def test_a_file_changes_only_the_keys_it_names(tmp_path):
+    (tmp_path / "c.toml").write_text("[springs]\nstiffness = 500\n[run]\nseed = 4\n")
+    c = load_config(tmp_path / "c.toml", {"run.duration": 5.0, "run.arms": None})
+    assert (c.springs.stiffness, c.springs.damping, c.run.seed, c.run.duration, c.run.arms) == (500.0, 0.9, 4, 5.0, 1)
+
+
+def test_config_round_trips_through_its_dict():
+    c = load_config(overrides={"camera.outline": [0, 54, 56, 2]})
+    assert config_from_dict(c.to_dict()) == c
+    assert "outline" not in load_config().to_dict()["camera"]  # unset optional keys are not written
+
+
+def test_every_default_key_is_documented_in_the_default_file():
+    c = load_config().to_dict()
+    for section, values in c.items():
+        assert f"[{section}]" in DEFAULT_CONFIG_TEXT
+        for key in values:
+            assert f"\n{key} = " in DEFAULT_CONFIG_TEXT, key
+
+
+@pytest.mark.parametrize("overrides, words", [
+    ({"body.gravity": [0.0]}, ["body.gravity", "2 values"]),
+    ({"run.arms": 1.5}, ["run.arms", "integer"]),
+    ({"run.arms": True}, ["run.arms", "integer"]),
+    ({"excitation.amplitude_jitter": 1.0}, ["excitation.amplitude_jitter", "[0, 1)"]),
+    ({"sensors.pairs": [[4, 4]]}, ["sensors.pairs[0]", "two different nodes"]),
+    ({"excitation.frequencies": []}, ["excitation.frequencies", "at least one"]),
+    ({"body.length": float("nan")}, ["body.length", "finite"]),
+])
+def test_bad_values_name_the_key_and_what_is_allowed(overrides, words):
+    with pytest.raises(ConfigError) as info:
+        load_config(overrides=overrides)
+    for word in words:
+        assert word in str(info.value)
