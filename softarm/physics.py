@@ -14,6 +14,7 @@ import taichi as ti
 from softarm.body import Body
 from softarm.errors import SimulationError
 from softarm.excitation import Drive
+from softarm.runtime import device_array, host, task_layout, upload
 
 f64nd = ti.types.ndarray(dtype=ti.f64)
 i32nd = ti.types.ndarray(dtype=ti.i32)
@@ -53,45 +54,68 @@ def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.temp
         force[a, j, 1] = force[a, j, 1] - magnitude * uy
 
 
+@ti.func
+def substep(a: int, t: ti.f64, h: ti.f64, x: ti.template(), v: ti.template(), force: ti.template(),
+            rest: ti.template(), mass: ti.template(), free: ti.template(), amplitude: ti.template(),
+            freqs: ti.template()):
+    """Semi-implicit Euler: free nodes take the new velocity into the new position; driven nodes follow f(t)."""
+    drive = drive_at(t, amplitude[a], freqs)
+    for i in range(x.shape[1]):
+        if free[i]:
+            for d in ti.static(range(2)):
+                v[a, i, d] = v[a, i, d] + h * force[a, i, d] / mass[i]
+                x[a, i, d] = x[a, i, d] + h * v[a, i, d]
+        else:
+            x[a, i, 0] = rest[i, 0] + drive[0]
+            x[a, i, 1] = rest[i, 1]
+            v[a, i, 0] = drive[1]
+            v[a, i, 1] = 0.0
+
+
+@ti.func
+def first_far_node(a: int, x: ti.template(), rest: ti.template(), free: ti.template(), limit: ti.f64) -> int:
+    """Index of the first free node further than `limit` from rest (NaN counts as far), or -1."""
+    found = -1
+    for i in range(x.shape[1]):
+        dx, dy = x[a, i, 0] - rest[i, 0], x[a, i, 1] - rest[i, 1]
+        if free[i] and found < 0 and not (dx * dx + dy * dy <= limit * limit):
+            found = i
+    return found
+
+
 @ti.kernel
 def advance_frames(x: f64nd, v: f64nd, force: f64nd, history: f64nd, status: i32nd,
                    rest: f64nd, mass: f64nd, free: i32nd, springs: i32nd, rest_len: f64nd,
                    stiffness: f64nd, damping: f64nd, amplitude: f64nd, time_offset: f64nd, freqs: f64nd,
                    gx: ti.f64, gy: ti.f64, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
-                   frame_dt: ti.f64, blowup_distance: ti.f64):
+                   frame_dt: ti.f64, blowup_distance: ti.f64, tasks: ti.i32, spacing: ti.i32):
     """Record each arm's state as frames first_frame.. into history[:, :n_frames], stepping between them.
 
+    Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
     status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
     arm stops stepping.
     """
     h = frame_dt / substeps
-    for a in range(x.shape[0]):
-        for f in range(n_frames):
-            for i in range(x.shape[1]):
-                history[a, f, i, 0] = x[a, i, 0]
-                history[a, f, i, 1] = x[a, i, 1]
-            if status[a, 0] < 0:
-                k = first_frame + f
-                for s in range(substeps):
-                    accumulate_forces(a, x, v, force, springs, rest_len, stiffness, damping, mass, gx, gy)
-                    t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + time_offset[a]
-                    drive = drive_at(t, amplitude[a], freqs)
+    arms = x.shape[0]
+    for slot in range(tasks * spacing):
+        if slot % spacing == 0:
+            task = slot // spacing
+            for j in range((arms - task + tasks - 1) // tasks):
+                a = task + j * tasks
+                for f in range(n_frames):
                     for i in range(x.shape[1]):
-                        if free[i]:
-                            for d in ti.static(range(2)):
-                                v[a, i, d] = v[a, i, d] + h * force[a, i, d] / mass[i]
-                                x[a, i, d] = x[a, i, d] + h * v[a, i, d]
-                        else:
-                            x[a, i, 0] = rest[i, 0] + drive[0]
-                            x[a, i, 1] = rest[i, 1]
-                            v[a, i, 0] = drive[1]
-                            v[a, i, 1] = 0.0
-                for i in range(x.shape[1]):  # free nodes only: the driven ones go where the drive puts them
-                    dx, dy = x[a, i, 0] - rest[i, 0], x[a, i, 1] - rest[i, 1]
-                    far = not (dx * dx + dy * dy <= blowup_distance * blowup_distance)  # NaN is far too
-                    if free[i] and far and status[a, 0] < 0:
-                        status[a, 0] = k + 1
-                        status[a, 1] = i
+                        history[a, f, i, 0] = x[a, i, 0]
+                        history[a, f, i, 1] = x[a, i, 1]
+                    if status[a, 0] < 0:
+                        k = first_frame + f
+                        for s in range(substeps):
+                            accumulate_forces(a, x, v, force, springs, rest_len, stiffness, damping, mass, gx, gy)
+                            t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + time_offset[a]
+                            substep(a, t, h, x, v, force, rest, mass, free, amplitude, freqs)
+                        far = first_far_node(a, x, rest, free, blowup_distance)
+                        if far >= 0:
+                            status[a, 0] = k + 1
+                            status[a, 1] = far
 
 
 class Simulator:
@@ -105,23 +129,17 @@ class Simulator:
         self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
         self.arms, self.block_frames, self.frame = arms, block_frames, 0
 
-        def upload(array: np.ndarray, dtype) -> ti.Ndarray:
-            array = np.ascontiguousarray(array)
-            nd = ti.ndarray(dtype, array.shape)
-            nd.from_numpy(array)
-            return nd
-
-        self.x = upload(np.broadcast_to(positions, (arms, n, 2)).astype(np.float64), ti.f64)
-        self.v = upload(np.broadcast_to(velocities, (arms, n, 2)).astype(np.float64), ti.f64)
-        self.force = ti.ndarray(ti.f64, (arms, n, 2))
-        self.history = ti.ndarray(ti.f64, (arms, block_frames, n, 2))
-        self.status = upload(np.full((arms, 2), -1, np.int32), ti.i32)
-        self._model = (upload(body.rest, ti.f64), upload(body.masses, ti.f64),
-                       upload(body.free.astype(np.int32), ti.i32), upload(body.springs.astype(np.int32), ti.i32),
-                       upload(body.rest_lengths, ti.f64), upload(body.stiffness, ti.f64),
-                       upload(body.damping, ti.f64), upload(np.array([d.amplitude for d in drives]), ti.f64),
-                       upload(np.array([d.time_offset for d in drives]), ti.f64),
-                       upload(np.array(drives[0].frequencies, np.float64), ti.f64))
+        self.x = upload(np.broadcast_to(positions, (arms, n, 2)).astype(np.float64))
+        self.v = upload(np.broadcast_to(velocities, (arms, n, 2)).astype(np.float64))
+        self.force = device_array((arms, n, 2), "float64")
+        self.history = device_array((arms, block_frames, n, 2), "float64")
+        self.status = upload(np.full((arms, 2), -1, np.int32))
+        self._model = (upload(body.rest), upload(body.masses), upload(body.free.astype(np.int32)),
+                       upload(body.springs.astype(np.int32)), upload(body.rest_lengths), upload(body.stiffness),
+                       upload(body.damping), upload(np.array([d.amplitude for d in drives])),
+                       upload(np.array([d.time_offset for d in drives])),
+                       upload(np.array(drives[0].frequencies, np.float64)))
+        self._tasks = task_layout(arms)
 
     def step_block(self, n_frames: int) -> None:
         """Fill `history[:, :n_frames]` with the next n_frames frames and step past them."""
@@ -130,7 +148,7 @@ class Simulator:
         gx, gy = self.body.gravity
         advance_frames(self.x, self.v, self.force, self.history, self.status, *self._model,
                        float(gx), float(gy), self.frame, n_frames, self.substeps, self.frame_dt,
-                       self.blowup_distance)
+                       self.blowup_distance, *self._tasks)
         self.frame += n_frames
         self._raise_on_blowup()
 
@@ -140,12 +158,12 @@ class Simulator:
         while n_frames > 0:
             block = min(n_frames, self.block_frames)
             self.step_block(block)
-            out.append(self.history.to_numpy()[:, :block])
+            out.append(host(self.history)[:, :block].copy())
             n_frames -= block
         return np.concatenate(out, axis=1)
 
     def _raise_on_blowup(self) -> None:
-        status = self.status.to_numpy()
+        status = host(self.status)
         bad = np.flatnonzero(status[:, 0] >= 0)
         if len(bad) == 0:
             return

@@ -11,6 +11,7 @@ import taichi as ti
 
 from softarm.config import CameraConfig
 from softarm.camera import world_to_pixel
+from softarm.runtime import device_array, host, upload
 
 f64nd = ti.types.ndarray(dtype=ti.f64)
 i32nd = ti.types.ndarray(dtype=ti.i32)
@@ -36,7 +37,7 @@ def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, polygo
             x1, y1 = polygon[a, f, e1, 0], polygon[a, f, e1, 1]
             if (y0 > y) != (y1 > y):
                 xc = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
-                left = ti.min(ti.max(ti.cast(ti.ceil(xc - 0.5), ti.i32), 0), width)
+                left = ti.cast(ti.min(ti.max(ti.ceil(xc - 0.5), 0.0), width), ti.i32)  # clamp, then convert
                 for c in range(left):  # plain read-modify-write: the row belongs to this thread alone
                     images[a, f, r, c] = images[a, f, r, c] ^ ti.u8(1)
 
@@ -45,14 +46,19 @@ class Rasteriser:
     """Owns the image block of a batch on the Taichi device."""
 
     def __init__(self, camera: CameraConfig, outline: np.ndarray, arms: int, block_frames: int):
-        self.outline = ti.ndarray(ti.i32, (len(outline),))
-        self.outline.from_numpy(np.asarray(outline, np.int32))
-        self.M = ti.ndarray(ti.f64, (2, 3))
-        self.M.from_numpy(world_to_pixel(camera))
-        self.polygon = ti.ndarray(ti.f64, (arms, block_frames, len(outline), 2))
-        self.images = ti.ndarray(ti.u8, (arms, block_frames, camera.height, camera.width))
+        self.outline = upload(np.asarray(outline, np.int32))
+        self.M = upload(world_to_pixel(camera))
+        self.polygon = device_array((arms, block_frames, len(outline), 2), "float64")
+        self.images = device_array((arms, block_frames, camera.height, camera.width), "uint8")
 
     def render(self, history: ti.Ndarray, n_frames: int) -> np.ndarray:
-        """(arms, n_frames, H, W) uint8 frames, 1 = arm, of the first n_frames frames of `history`."""
+        """(arms, n_frames, H, W) uint8 frames, 1 = arm, of the first n_frames frames of `history`.
+
+        On the CPU the result is a view of the rasteriser's buffer, valid until the next call.
+        """
+        arms, block = self.images.shape[:2]
+        if history.shape[0] != arms or not 1 <= n_frames <= min(block, history.shape[1]):
+            raise ValueError(f"history {tuple(history.shape)} with {n_frames} frames does not fit a "
+                             f"rasteriser of {arms} arms x {block} frames")
         rasterise(history, n_frames, self.outline, self.M, self.polygon, self.images)
-        return self.images.to_numpy()[:, :n_frames]
+        return host(self.images)[:, :n_frames]

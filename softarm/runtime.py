@@ -2,7 +2,9 @@
 
 import contextlib
 import io
+from typing import Union
 
+import numpy as np
 import taichi as ti
 
 from softarm.errors import SoftarmError
@@ -36,3 +38,46 @@ def init_taichi(arch: str = "cpu", debug: bool = False) -> str:
 
 def backend_name() -> str:
     return str(ti.lang.impl.current_cfg().arch).rsplit(".", 1)[-1]
+
+
+def on_cpu() -> bool:
+    return ti.lang.impl.current_cfg().arch in (ti.x64, ti.arm64)
+
+
+def device_array(shape: tuple[int, ...], dtype: str) -> Union[np.ndarray, ti.Ndarray]:
+    """A kernel argument array: plain NumPy on the CPU (kernels work on it in place, no copies), device memory on a GPU."""
+    if on_cpu():
+        return np.zeros(shape, dtype)
+    return ti.ndarray({"float64": ti.f64, "int32": ti.i32, "uint8": ti.u8}[dtype], shape)
+
+
+def upload(array: np.ndarray) -> Union[np.ndarray, ti.Ndarray]:
+    """A device copy of `array` (on the CPU: a contiguous NumPy copy)."""
+    array = np.ascontiguousarray(array)
+    out = device_array(array.shape, array.dtype.name)
+    if isinstance(out, np.ndarray):
+        out[...] = array
+    else:
+        out.from_numpy(array)
+    return out
+
+
+def host(array: Union[np.ndarray, ti.Ndarray]) -> np.ndarray:
+    """The array as NumPy: itself on the CPU, a copy from the GPU."""
+    return array if isinstance(array, np.ndarray) else array.to_numpy()
+
+
+CPU_TASK_SPACING = 512  # Taichi 1.7 gives each CPU thread at least 512 iterations of a parallel range-for
+
+
+def task_layout(items: int) -> tuple[int, int]:
+    """(tasks, spacing) so that `for slot in range(tasks * spacing)` with work at every spacing-th slot
+    runs one task per thread.
+
+    Taichi's CPU backend hands each thread a block of at least 512 consecutive iterations, so a loop
+    over 64 arms would run on one thread; spacing the tasks 512 iterations apart puts one task on
+    each thread. On a GPU every arm is its own thread (spacing 1).
+    """
+    if on_cpu():
+        return min(items, ti.lang.impl.current_cfg().cpu_max_num_threads), CPU_TASK_SPACING
+    return items, 1

@@ -16,7 +16,7 @@ from softarm.excitation import drive_for_seed
 from softarm.physics import Simulator
 from softarm.raster import Rasteriser
 from softarm.recorder import RecordingWriter, model_metadata
-from softarm.runtime import init_taichi
+from softarm.runtime import host, init_taichi
 from softarm.sensors import stretch
 
 DEFAULT_FOLDER = Path("recordings")
@@ -140,7 +140,7 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
                 n = min(block_frames, config.n_frames - done)
                 sim.step_block(n)
                 images = camera.render(sim.history, n)
-                positions = sim.history.to_numpy()[:, :n]
+                positions = host(sim.history)[:, :n]
                 readings = stretch(positions, body.rest, body.sensors)
                 times = np.arange(done, done + n) * integ.frame_dt
                 for arm, writer in enumerate(writers):

@@ -1,0 +1,140 @@
+"""softarm benchmarks: every figure is a ratio against a reference measured in the same run.
+
+    python bench/run.py [--quick] [--out bench/results]
+
+Prints a Markdown table and writes it, with the raw figures, to bench/results/latest.{md,json}.
+Sections: physics (Taichi vs the float64 NumPy reference), rasteriser (Taichi vs cv2.fillPoly),
+end to end (`softarm sim` with defaults, start-up included, vs real time).
+"""
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Callable
+
+import cv2
+import numpy as np
+
+from softarm.body import build_body, hanging_equilibrium
+from softarm.camera import world_to_pixel
+from softarm.config import load_config
+from softarm.excitation import drive_for_seed
+from softarm.physics import Simulator
+from softarm.raster import Rasteriser
+from softarm.reference import simulate_reference
+from softarm.runtime import init_taichi
+
+
+def best_of(repeats: int, action: Callable[[], object]) -> float:
+    """Shortest wall time of `repeats` runs: the least disturbed by the other load on a shared machine."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        action()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def row(name: str, ours: float, reference: float, unit: str, against: str) -> dict:
+    return {"name": name, "ours": ours, "reference": reference, "unit": unit, "against": against,
+            "ratio": ours / reference}
+
+
+def physics_rows(config, quick: bool) -> list[dict]:
+    body = build_body(config)
+    x = hanging_equilibrium(body)
+    i = config.integration
+    springs = len(body.springs)
+    ref_frames = 5 if quick else 20
+    drive = drive_for_seed(config.excitation, 0)
+    numpy_s = best_of(3, lambda: simulate_reference(body, drive, x, np.zeros_like(x), i.frame_dt, i.substeps,
+                                                    ref_frames + 1))
+    numpy_rate = ref_frames * i.substeps * springs / numpy_s  # spring updates per second, one arm
+    rows = []
+    for arms in (1, 64):
+        drives = [drive_for_seed(config.excitation, s) for s in range(arms)]
+        sim = Simulator(body, drives, i.frame_dt, i.substeps, i.blowup_distance, x, np.zeros_like(x), 100)
+        sim.step_block(1)  # compile (or load from the offline cache) outside the timing
+        blocks = 1 if quick or arms > 1 else 10
+        seconds = best_of(3, lambda: [sim.step_block(100) for _ in range(blocks)])
+        rate = arms * blocks * 100 * i.substeps * springs / seconds
+        rows.append(row(f"physics, {arms} arm{'s' if arms > 1 else ''}", rate, numpy_rate,
+                        "spring updates/s", "NumPy reference (float64, arms one after another)"))
+    return rows
+
+
+def raster_rows(config, quick: bool) -> list[dict]:
+    body = build_body(config)
+    x = hanging_equilibrium(body)
+    i = config.integration
+    frames = 100
+    sim = Simulator(body, [drive_for_seed(config.excitation, 0)], i.frame_dt, i.substeps, i.blowup_distance,
+                    x, np.zeros_like(x), frames)
+    sim.step_block(frames)
+    history = sim.history.to_numpy()
+    camera = Rasteriser(config.camera, body.outline, 1, frames)
+    camera.render(sim.history, frames)
+    repeats = 3 if quick else 10
+    ours = best_of(repeats, lambda: camera.render(sim.history, frames))
+    M = world_to_pixel(config.camera)
+    image = np.zeros((config.camera.height, config.camera.width), np.uint8)
+
+    def with_cv2() -> None:
+        for f in range(frames):
+            polygon = history[0, f, body.outline] @ M[:, :2].T + M[:, 2] - 0.5  # cv2: integer = pixel centre
+            image[:] = 0
+            cv2.fillPoly(image, [np.round(polygon * 256).astype(np.int32)], 1, lineType=cv2.LINE_8, shift=8)
+
+    reference = best_of(repeats, with_cv2)
+    return [row("rasteriser, 1 arm", frames / ours, frames / reference, "frames/s", "cv2.fillPoly (8-bit subpixel)")]
+
+
+def end_to_end_rows(quick: bool) -> list[dict]:
+    duration = 10.0 if quick else 100.0
+    softarm = str(Path(sys.executable).with_name("softarm"))
+    with tempfile.TemporaryDirectory() as folder:
+        start = time.perf_counter()
+        subprocess.run([softarm, "sim", "--duration", str(duration), "--out", "run.mcap", "--quiet"], cwd=folder,
+                       check=True)
+        seconds = time.perf_counter() - start
+    return [row(f"softarm sim, {duration:g} s default run (start-up included)", duration / seconds, 1.0,
+                "x real time", "real time")]
+
+
+def to_markdown(rows: list[dict]) -> str:
+    lines = ["| benchmark | softarm | reference | ratio | against |", "|---|---:|---:|---:|---|"]
+    for r in rows:
+        lines.append(f"| {r['name']} | {r['ours']:,.4g} {r['unit']} | {r['reference']:,.4g} | "
+                     f"**{r['ratio']:,.1f}x** | {r['against']} |")
+    return "\n".join(lines)
+
+
+def machine() -> str:
+    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
+               platform.processor()) if os.path.exists("/proc/cpuinfo") else platform.processor()
+    return f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="fewer frames and repeats (a smoke test)")
+    ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    args = ap.parse_args()
+    init_taichi("cpu")
+    config = load_config()
+    rows = physics_rows(config, args.quick) + raster_rows(config, args.quick) + end_to_end_rows(args.quick)
+    table = to_markdown(rows)
+    print(f"machine: {machine()}\n\n{table}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "latest.md").write_text(f"Measured on {machine()}.\n\n{table}\n")
+    (args.out / "latest.json").write_text(json.dumps({"machine": machine(), "rows": rows}, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,17 @@
+"""Makes docs/default_run.png, the README's picture: camera frames of a recording at evenly spaced times.
+
+    python docs/make_readme_picture.py recordings/seed0.mcap
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from softarm.filmstrip import filmstrip, save_png
+from softarm.recording import read_recording
+
+recording = read_recording(sys.argv[1], nodes=False)
+picks = np.linspace(0, len(recording.times) - 1, 10).round().astype(int)[1:]
+strip = filmstrip([recording.frames[picks]], ["camera"], recording.times[picks])
+print(save_png(strip, Path(__file__).parent / "default_run.png"))
