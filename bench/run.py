@@ -28,7 +28,8 @@ from softarm.excitation import drive_for_seed
 from softarm.physics import Simulator
 from softarm.raster import Rasteriser
 from softarm.reference import simulate_reference
-from softarm.runtime import init_taichi
+from softarm.runtime import host, init_taichi
+from softarm.sim import MAX_BLOCK_FRAMES
 
 
 def best_of(repeats: int, action: Callable[[], object]) -> float:
@@ -73,11 +74,11 @@ def raster_rows(config, quick: bool) -> list[dict]:
     body = build_body(config)
     x = hanging_equilibrium(body)
     i = config.integration
-    frames = 100
+    frames = MAX_BLOCK_FRAMES  # the block `softarm sim` draws per kernel launch
     sim = Simulator(body, [drive_for_seed(config.excitation, 0)], i.frame_dt, i.substeps, i.blowup_distance,
                     x, np.zeros_like(x), frames)
     sim.step_block(frames)
-    history = sim.history.to_numpy()
+    history = host(sim.history).copy()
     camera = Rasteriser(config.camera, body.outline, 1, frames)
     camera.render(sim.history, frames)
     repeats = 3 if quick else 10

@@ -1,9 +1,11 @@
 """Taichi rasteriser: binary camera frames of every arm and frame of a block, in parallel (MODEL.md, Camera).
 
 A pixel is 1 exactly when its centre lies inside the outline polygon by the even-odd rule. Each
-thread fills one image row by scanline: every outline edge that crosses the row's centre line at
-u = xc flips the pixels whose centre lies left of it (c + 0.5 < xc), the same test as a ray cast
-to the right from each centre, at O(edges + width) per row instead of O(edges x width).
+task draws whole frames, edge by edge: an edge that crosses the centre line of row r at u = xc
+flips every pixel whose centre lies left of it (c + 0.5 < xc), the same test as a ray cast to the
+right from each centre. Rather than flipping those pixels one by one, the edge leaves a marker at
+the last of them and one right-to-left sweep per row turns the markers into parity: O(edges x rows
+crossed + pixels) per frame.
 """
 
 import numpy as np
@@ -11,35 +13,64 @@ import taichi as ti
 
 from softarm.config import CameraConfig
 from softarm.camera import world_to_pixel
-from softarm.runtime import device_array, host, upload
+from softarm.runtime import device_array, host, task_layout, upload
 
 f64nd = ti.types.ndarray(dtype=ti.f64)
 i32nd = ti.types.ndarray(dtype=ti.i32)
 u8nd = ti.types.ndarray(dtype=ti.u8)
 
 
-@ti.kernel
-def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, polygon: f64nd, images: u8nd):
-    """images[a, f] = the outline of history[a, f] (node positions, m) seen through M, for f < n_frames."""
-    for a, f, e in ti.ndrange(history.shape[0], n_frames, outline.shape[0]):
-        x, y = history[a, f, outline[e], 0], history[a, f, outline[e], 1]
-        polygon[a, f, e, 0] = x * M[0, 0] + y * M[0, 1] + M[0, 2]
-        polygon[a, f, e, 1] = x * M[1, 0] + y * M[1, 1] + M[1, 2]
-    for a, f, r in ti.ndrange(history.shape[0], n_frames, images.shape[2]):
-        width = images.shape[3]
-        for c in range(width):
-            images[a, f, r, c] = ti.u8(0)
+@ti.func
+def mark_edge(a: int, f: int, x0: ti.f64, y0: ti.f64, x1: ti.f64, y1: ti.f64, images: ti.template()):
+    """Flip the marker of every row whose centre line the edge crosses, at the last pixel left of the crossing."""
+    height, width = images.shape[2], images.shape[3]
+    # Rows r with y > r + 0.5 are those below ceil(y - 0.5); the crossings lie between the two ends'
+    # counts. One row of slack on each side, tested exactly, keeps ties identical to the direct rule.
+    lo = ti.cast(ti.max(ti.min(ti.ceil(ti.min(y0, y1) - 0.5), height), 0.0), ti.i32)
+    hi = ti.cast(ti.max(ti.min(ti.ceil(ti.max(y0, y1) - 0.5), height), 0.0), ti.i32)
+    for r in range(ti.max(lo - 1, 0), ti.min(hi + 1, height)):
         y = r + 0.5
-        n_edges = outline.shape[0]
-        for e in range(n_edges):
-            x0, y0 = polygon[a, f, e, 0], polygon[a, f, e, 1]
-            e1 = (e + 1) % n_edges
-            x1, y1 = polygon[a, f, e1, 0], polygon[a, f, e1, 1]
-            if (y0 > y) != (y1 > y):
-                xc = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
-                left = ti.cast(ti.min(ti.max(ti.ceil(xc - 0.5), 0.0), width), ti.i32)  # clamp, then convert
-                for c in range(left):  # plain read-modify-write: the row belongs to this thread alone
-                    images[a, f, r, c] = images[a, f, r, c] ^ ti.u8(1)
+        if (y0 > y) != (y1 > y):
+            xc = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+            left = ti.cast(ti.min(ti.max(ti.ceil(xc - 0.5), 0.0), width), ti.i32)  # clamp, then convert
+            if left > 0:
+                images[a, f, r, left - 1] = images[a, f, r, left - 1] ^ ti.u8(1)
+
+
+@ti.kernel
+def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, images: u8nd,
+              tasks: ti.i32, spacing: ti.i32):
+    """images[a, f] = the outline of history[a, f] (node positions, m) seen through M, for f < n_frames.
+
+    Task k (at slot k * spacing, see runtime.task_layout) draws frames k, k + tasks, ... of the
+    flattened (arm, frame) list.
+    """
+    items = history.shape[0] * n_frames
+    height, width = images.shape[2], images.shape[3]
+    n_edges = outline.shape[0]
+    for slot in range(tasks * spacing):
+        if slot % spacing == 0:
+            task = slot // spacing
+            for j in range((items - task + tasks - 1) // tasks):
+                item = task + j * tasks
+                a, f = item // n_frames, item % n_frames
+                for r, c in ti.ndrange(height, width):
+                    images[a, f, r, c] = ti.u8(0)
+                first = outline[n_edges - 1]
+                x0 = history[a, f, first, 0] * M[0, 0] + history[a, f, first, 1] * M[0, 1] + M[0, 2]
+                y0 = history[a, f, first, 0] * M[1, 0] + history[a, f, first, 1] * M[1, 1] + M[1, 2]
+                for e in range(n_edges):
+                    node = outline[e]
+                    x1 = history[a, f, node, 0] * M[0, 0] + history[a, f, node, 1] * M[0, 1] + M[0, 2]
+                    y1 = history[a, f, node, 0] * M[1, 0] + history[a, f, node, 1] * M[1, 1] + M[1, 2]
+                    mark_edge(a, f, x0, y0, x1, y1, images)
+                    x0, y0 = x1, y1
+                for r in range(height):  # markers -> parity, right to left
+                    parity = ti.u8(0)
+                    for k in range(width):
+                        c = width - 1 - k
+                        parity = parity ^ images[a, f, r, c]
+                        images[a, f, r, c] = parity
 
 
 class Rasteriser:
@@ -48,7 +79,6 @@ class Rasteriser:
     def __init__(self, camera: CameraConfig, outline: np.ndarray, arms: int, block_frames: int):
         self.outline = upload(np.asarray(outline, np.int32))
         self.M = upload(world_to_pixel(camera))
-        self.polygon = device_array((arms, block_frames, len(outline), 2), "float64")
         self.images = device_array((arms, block_frames, camera.height, camera.width), "uint8")
 
     def render(self, history: ti.Ndarray, n_frames: int) -> np.ndarray:
@@ -60,5 +90,5 @@ class Rasteriser:
         if history.shape[0] != arms or not 1 <= n_frames <= min(block, history.shape[1]):
             raise ValueError(f"history {tuple(history.shape)} with {n_frames} frames does not fit a "
                              f"rasteriser of {arms} arms x {block} frames")
-        rasterise(history, n_frames, self.outline, self.M, self.polygon, self.images)
+        rasterise(history, n_frames, self.outline, self.M, self.images, *task_layout(arms * n_frames))
         return host(self.images)[:, :n_frames]

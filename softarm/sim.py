@@ -106,8 +106,18 @@ def stop_on_signal() -> Iterator[list[int]]:
             signal.signal(sig, old)
 
 
+BLOCK_BYTES = 256 * 2**20  # device memory for one block of positions and images, all arms together
+MAX_BLOCK_FRAMES = 500      # 5 s: long enough to hide Taichi's launch cost (~0.1-0.4 ms a kernel call)
+
+
+def block_frames_for(config: Config, n_nodes: int) -> int:
+    """Frames per kernel launch: as many as fit BLOCK_BYTES for the whole batch, at most MAX_BLOCK_FRAMES."""
+    per_frame = config.run.arms * (n_nodes * 2 * 8 + config.camera.height * config.camera.width)
+    return max(1, min(MAX_BLOCK_FRAMES, config.n_frames, BLOCK_BYTES // per_frame))
+
+
 def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = False, arch: str = "cpu",
-             progress: Optional[Callable[[int], None]] = None, block_frames: int = 100) -> SimResult:
+             progress: Optional[Callable[[int], None]] = None) -> SimResult:
     """Run config.run.arms arms for config.run.duration seconds and record each to its MCAP file.
 
     `progress(frames_done)` is called after every block. Ctrl-C stops at the next block boundary and
@@ -125,7 +135,7 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     hanging = hanging_equilibrium(body)
     starts = [initial_state(hanging, float(d.displacement(0.0)), float(d.velocity(0.0))) for d in drives]
     integ = config.integration
-    block_frames = min(block_frames, config.n_frames)
+    block_frames = block_frames_for(config, body.n_nodes)
     sim = Simulator(body, drives, integ.frame_dt, integ.substeps, integ.blowup_distance,
                     np.stack([p for p, _ in starts]), np.stack([v for _, v in starts]), block_frames)
     camera = Rasteriser(config.camera, body.outline, len(drives), block_frames)
