@@ -91,3 +91,55 @@ def sim(
 
 if __name__ == "__main__":
     sys.exit(app())
+
+
+@app.command()
+def train(
+    recordings: Annotated[list[Path], typer.Argument(help="Recordings (.mcap) to learn from; each is split by time.")],
+    out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="Checkpoint file [default: recordings/<first recording>.pt]; metrics go beside it as .metrics.json.")] = None,
+    config: Annotated[Optional[Path], typer.Option("--config", "-c", help="TOML config; its [train] section sets the defaults below.")] = None,
+    epochs_ae: Annotated[Optional[int], typer.Option(help="Autoencoder epochs [default: 12].")] = None,
+    epochs_lstm: Annotated[Optional[int], typer.Option(help="LSTM epochs [default: 150].")] = None,
+    history: Annotated[Optional[int], typer.Option(help="Stretch samples the LSTM sees [default: 6].")] = None,
+    include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].")] = None,
+    latent: Annotated[Optional[int], typer.Option(help="Latent features of the autoencoder [default: 16].")] = None,
+    seed: Annotated[Optional[int], typer.Option(help="Seed of initialisation and shuffling [default: 0].")] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Continue the interrupted run saved in --out.")] = False,
+    spawn: Annotated[bool, typer.Option("--spawn", help="Open a Rerun viewer with live losses and a held-out clip.")] = False,
+    rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Save the live view to this .rrd file.")] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing checkpoint.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no metrics table.")] = False,
+) -> None:
+    """Train the autoencoder and the LSTM on recordings; print held-out metrics beside baselines.
+
+    Example: softarm train recordings/seed0.mcap --rrd recordings/train.rrd
+    """
+    from cli.tables import metrics_table
+    from softarm.interrupt import stop_on_signal
+    from softarm.train import check_train_outputs, train as run_training
+
+    overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.history": history,
+                 "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
+    cfg = run_or_exit(lambda: load_config(config, overrides))
+    out_file = out_path or Path("recordings") / f"{recordings[0].stem}.pt"
+    run_or_exit(lambda: check_train_outputs(out_file, rrd, resume=resume, force=force))
+    total = cfg.train.epochs_ae + cfg.train.epochs_lstm
+    with LazyProgress(err, "training", total, "epochs", quiet=quiet) as bar:
+        def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
+            offset = 0 if phase == "ae" else cfg.train.epochs_ae
+            bar.update(offset + done, **{k: f"{k} {v:.4f}" for k, v in losses.items()})
+
+        def run() -> object:
+            from softarm.viz import TrainingView
+            with TrainingView(spawn=spawn, rrd=rrd) as view, stop_on_signal() as caught:
+                return run_training(recordings, cfg, out_file, resume=resume, observer=view, progress=progress,
+                                    stop=lambda: bool(caught))
+        result = run_or_exit(run)
+    if not result.complete:
+        err.print(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with "
+                  f"softarm train {' '.join(map(str, recordings))} --out {result.checkpoint} --resume", markup=False)
+        raise typer.Exit(130)
+    if not quiet:
+        out.print(metrics_table(result.metrics))
+        out.print(f"checkpoint {result.checkpoint}, metrics {result.metrics_path}, {result.wall_seconds:.0f} s",
+                  markup=False)

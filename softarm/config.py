@@ -78,6 +78,24 @@ class RunConfig:
 
 
 @dataclass(frozen=True)
+class TrainConfig:
+    train_fraction: float
+    test_fraction: float
+    latent: int
+    history: int
+    include_current: bool
+    epochs_ae: int
+    epochs_lstm: int
+    batch_ae: int
+    batch_lstm: int
+    lr_ae: float
+    lr_lstm: float
+    lstm_hidden: int
+    min_feature_std: float
+    seed: int
+
+
+@dataclass(frozen=True)
 class Config:
     body: BodyConfig
     springs: SpringsConfig
@@ -86,6 +104,7 @@ class Config:
     camera: CameraConfig
     integration: IntegrationConfig
     run: RunConfig
+    train: TrainConfig
 
     @property
     def n_frames(self) -> int:
@@ -208,6 +227,10 @@ def _coerce(value: Any, hint: Any, key: str) -> Any:
         if isinstance(value, bool) or not (isinstance(value, int) or (isinstance(value, float) and value.is_integer())):
             raise ConfigError(f"config key '{key}' must be an integer, got {value!r}")
         return int(value)
+    if hint is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"config key '{key}' must be true or false, got {value!r}")
+        return value
     if hint is str:
         if not isinstance(value, str):
             raise ConfigError(f"config key '{key}' must be a string, got {value!r}")
@@ -248,3 +271,13 @@ def _check_ranges(c: Config) -> None:
     _require(c.n_frames >= 1, "run.duration", r.duration, f"must cover at least one frame of {i.frame_dt} s")
     _require(r.arms >= 1, "run.arms", r.arms, "must be >= 1")
     _require(r.seed >= 0, "run.seed", r.seed, "must be >= 0")
+    t = c.train
+    _require(0 < t.train_fraction < 1, "train.train_fraction", t.train_fraction, "must be in (0, 1)")
+    _require(0 < t.test_fraction and t.train_fraction + t.test_fraction < 1, "train.test_fraction",
+             t.test_fraction, "must be > 0 and leave room for the imagination segment")
+    for key in ("latent", "history", "epochs_ae", "epochs_lstm", "batch_ae", "batch_lstm", "lstm_hidden"):
+        _require(getattr(t, key) >= 1, f"train.{key}", getattr(t, key), "must be >= 1")
+    for key in ("lr_ae", "lr_lstm"):
+        _require(getattr(t, key) > 0, f"train.{key}", getattr(t, key), "must be > 0")
+    _require(0 <= t.min_feature_std < 1, "train.min_feature_std", t.min_feature_std, "must be in [0, 1)")
+    _require(t.seed >= 0, "train.seed", t.seed, "must be >= 0")

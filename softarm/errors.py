@@ -19,3 +19,7 @@ class SimulationError(SoftarmError):
 
 class OutputError(SoftarmError):
     """An output path cannot be written (exists, parent missing or not a folder)."""
+
+
+class CheckpointError(SoftarmError):
+    """A checkpoint is missing, not a softarm checkpoint, or does not fit the model or recording."""

@@ -1,18 +1,18 @@
 """`simulate`: a batch of arms from config to recordings (physics -> camera -> sensors -> MCAP), block by block."""
 
-import signal
 import time
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Iterator, Optional, Union
+from typing import Callable, Optional, Union
 
 import numpy as np
 
 from softarm.body import build_body, hanging_equilibrium, initial_state, max_stable_substep
 from softarm.config import Config
-from softarm.errors import ConfigError, OutputError
+from softarm.errors import ConfigError
 from softarm.excitation import drive_for_seed
+from softarm.interrupt import stop_on_signal
+from softarm.outputs import check_outputs
 from softarm.physics import Simulator
 from softarm.raster import Rasteriser
 from softarm.recorder import RecordingWriter, model_metadata
@@ -51,28 +51,6 @@ def output_paths(config: Config, out: Union[str, Path, None] = None) -> list[Pat
     return [out.with_name(f"{out.stem}_arm{i}{out.suffix or '.mcap'}") for i in range(config.run.arms)]
 
 
-def check_outputs(paths: list[Path], force: bool) -> None:
-    """Refuse before any work: an existing file (unless force), a parent that is a file or is read-only."""
-    for path in paths:
-        if path.is_dir():
-            raise OutputError(f"output {path} is a folder; give a file name ending in .mcap")
-        if path.exists() and not force:
-            raise OutputError(f"output {path} already exists; pass --force to overwrite it")
-        parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
-        if not parent.is_dir():
-            raise OutputError(f"cannot write {path}: {parent} is a file, not a folder")
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-        except OSError as e:
-            raise OutputError(f"cannot create the folder of {path}: {e.strerror}") from None
-        probe = path.with_name(path.name + ".part")
-        try:
-            probe.touch()
-            probe.unlink()
-        except OSError as e:
-            raise OutputError(f"cannot write {path}: {e.strerror}") from None
-
-
 def check_step(config: Config, h_max: float) -> None:
     """Refuse a substep above the stability limit of semi-implicit Euler, naming the substeps that work."""
     dt = config.integration.frame_dt
@@ -83,27 +61,6 @@ def check_step(config: Config, h_max: float) -> None:
             f"config key 'integration.substeps' = {substeps} is unstable: a step of {1e3 * dt / substeps:.3g} ms "
             f"exceeds the stability limit {1e3 * h_max:.3g} ms of these springs and masses; "
             f"use integration.substeps >= {needed} (or --substeps {needed})")
-
-
-@contextmanager
-def stop_on_signal() -> Iterator[list[int]]:
-    """Turn Ctrl-C (and SIGTERM) into a flag the loop checks between blocks, so no frame is half written."""
-    caught: list[int] = []
-    handlers = {}
-
-    def handle(signum: int, _frame: object) -> None:
-        caught.append(signum)
-
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        try:
-            handlers[sig] = signal.signal(sig, handle)
-        except ValueError:  # not the main thread: leave signals alone
-            pass
-    try:
-        yield caught
-    finally:
-        for sig, old in handlers.items():
-            signal.signal(sig, old)
 
 
 BLOCK_BYTES = 256 * 2**20  # device memory for one block of positions and images, all arms together

@@ -1,0 +1,27 @@
+"""Rich tables of the metrics dictionaries that training and replay return."""
+
+from typing import Any
+
+from rich.table import Table
+
+ROWS = {"lstm": "LSTM imagination", "ridge": "ridge baseline", "mean_frame": "mean-frame baseline",
+        "ae_ceiling": "AE ceiling (true latent)"}
+
+
+def scores_row(table: Table, label: str, scores: dict[str, float]) -> None:
+    table.add_row(label, f"{scores['bce']:.4f}", f"{scores['iou']:.3f}", f"{scores['dice']:.3f}",
+                  f"{scores['tip_mm']:.1f}")
+
+
+def metrics_table(metrics: dict[str, Any]) -> Table:
+    counts = metrics["counts"]
+    table = Table(title=f"held-out metrics ({counts['imagination_predictions']} imagination predictions, "
+                        f"{counts['test_frames']} AE test frames)")
+    for column in ("", "BCE", "IoU", "Dice", "tip error (mm)"):
+        table.add_column(column, justify="left" if not column else "right")
+    scores_row(table, "autoencoder, test segment", metrics["autoencoder_test"])
+    for key, label in ROWS.items():
+        scores_row(table, f"{label}, last 5 %", metrics["imagination"][key])
+    mse = metrics["lstm_latent_mse"]
+    table.caption = f"LSTM latent MSE (normalised): test {mse['test']:.3f}, imagination {mse['imagine']:.3f}"
+    return table

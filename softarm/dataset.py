@@ -1,0 +1,114 @@
+"""Learning data from recordings: frames and stretch, split by time as in the paper.
+
+Each recording is split on its own: the first `train_fraction` of its frames train, the next
+`test_fraction` test the autoencoder (and validate the LSTM), the rest is the imagination segment.
+Stretch windows never straddle a split, so no test target is predicted from training samples.
+"""
+
+import hashlib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence, Union
+
+import numpy as np
+
+from softarm.config import TrainConfig
+from softarm.errors import RecordingError
+from softarm.recording import read_recording
+
+SEGMENTS = ("train", "test", "imagine")
+
+
+@dataclass(frozen=True)
+class RunData:
+    """One recording's learning arrays."""
+    name: str
+    fingerprint: str            # sha256 of the file, first 16 hex digits
+    frames: np.ndarray          # (T, H, W) uint8 0/1
+    stretch: np.ndarray         # (T, P) float32, m
+    times: np.ndarray           # (T,) s
+    bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
+    model: dict                 # the recording's model metadata
+
+    def segment(self, name: str) -> tuple[int, int]:
+        b0, b1 = self.bounds
+        return {"train": (0, b0), "test": (b0, b1), "imagine": (b1, len(self.times))}[name]
+
+
+@dataclass(frozen=True)
+class Dataset:
+    sequences: list[RunData]
+
+    @property
+    def image_shape(self) -> tuple[int, int]:
+        return self.sequences[0].frames.shape[1:]
+
+    @property
+    def sensor_count(self) -> int:
+        return self.sequences[0].stretch.shape[1]
+
+    def frames(self, segment: str) -> np.ndarray:
+        """(M, H, W) uint8 frames of a segment, all recordings in order."""
+        return np.concatenate([s.frames[slice(*s.segment(segment))] for s in self.sequences])
+
+    def windows(self, segment: str, history: int, include_current: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Stretch windows (M, history, P) and, per window, the (sequence, frame) it predicts (M, 2).
+
+        The window for frame k is samples k-history .. k-1, or k-history+1 .. k with include_current;
+        every sample lies inside the segment.
+        """
+        inputs, targets = [], []
+        lag = 0 if include_current else 1
+        for n, seq in enumerate(self.sequences):
+            start, end = seq.segment(segment)
+            first = start + history - 1 + lag
+            for k in range(first, end):
+                inputs.append(seq.stretch[k - lag - history + 1:k - lag + 1])
+                targets.append((n, k))
+        if not inputs:
+            raise RecordingError(f"the {segment} segment is shorter than a history of {history} samples")
+        return np.stack(inputs), np.array(targets)
+
+    def target_frames(self, targets: np.ndarray) -> np.ndarray:
+        return np.stack([self.sequences[n].frames[k] for n, k in targets])
+
+    def fingerprints(self) -> list[dict]:
+        return [{"name": s.name, "sha256": s.fingerprint, "frames": len(s.times)} for s in self.sequences]
+
+
+def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
+    """Frame indices where test and imagination begin (8500 and 9500 for 10 000 frames)."""
+    return round(n_frames * train.train_fraction), round(n_frames * (train.train_fraction + train.test_fraction))
+
+
+def fingerprint(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()[:16]
+
+
+def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig) -> Dataset:
+    """Read recordings (all of one image shape and sensor count) and split each by time."""
+    if not paths:
+        raise RecordingError("give at least one recording")
+    sequences = []
+    for path in map(Path, paths):
+        rec = read_recording(path, nodes=False)
+        seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=rec.frames,
+                        stretch=rec.stretch.astype(np.float32), times=rec.times,
+                        bounds=split_bounds(len(rec.times), train), model=rec.model)
+        if sequences:
+            check_compatible(seq, sequences[0].frames.shape[1:], sequences[0].stretch.shape[1], sequences[0].name)
+        sequences.append(seq)
+    return Dataset(sequences)
+
+
+def check_compatible(seq: RunData, image_shape: tuple[int, int], sensor_count: int, other: str) -> None:
+    """Refuse a recording whose images or sensors differ from what it is combined with."""
+    if tuple(seq.frames.shape[1:]) != tuple(image_shape):
+        raise RecordingError(f"{seq.name} has {seq.frames.shape[1]}x{seq.frames.shape[2]} images but {other} has "
+                             f"{image_shape[0]}x{image_shape[1]}")
+    if seq.stretch.shape[1] != sensor_count:
+        raise RecordingError(f"{seq.name} has {seq.stretch.shape[1]} stretch sensors but {other} has {sensor_count}")

@@ -1,0 +1,88 @@
+"""Imagination: stretch windows -> LSTM -> normalised latent -> decoder -> frame probabilities.
+
+An `Imaginer` holds the trained networks and the training statistics; training uses it for its
+metrics and `softarm replay` for whole recordings, so both compute imagination the same way.
+"""
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import torch
+
+from softarm.errors import CheckpointError, RecordingError
+from softarm.features import Scaler
+from softarm.models import Autoencoder, StretchToLatent
+
+BATCH = 512
+
+
+@dataclass
+class Imaginer:
+    autoencoder: Autoencoder
+    lstm: StretchToLatent
+    latent_scaler: Scaler
+    stretch_scaler: Scaler
+    history: int
+    include_current: bool
+
+    @classmethod
+    def from_checkpoint(cls, state: dict[str, Any]) -> "Imaginer":
+        if state.get("lstm") is None:
+            raise CheckpointError("the checkpoint's training stopped before the LSTM: finish it with --resume")
+        t = state["config"]["train"]
+        height, width = state["image_shape"]
+        latent_scaler = Scaler.from_state(state["latent_scaler"])
+        ae = Autoencoder(height, width, t["latent"])
+        lstm = StretchToLatent(state["sensor_count"], t["lstm_hidden"], latent_scaler.kept)
+        try:
+            ae.load_state_dict(state["autoencoder"])
+            lstm.load_state_dict(state["lstm"])
+        except (RuntimeError, KeyError) as e:
+            raise CheckpointError(f"the checkpoint's weights do not fit this softarm's networks: "
+                                  f"{str(e).splitlines()[0][:160]}") from None
+        ae.eval()
+        lstm.eval()
+        return cls(ae, lstm, latent_scaler, Scaler.from_state(state["stretch_scaler"]), t["history"], t["include_current"])
+
+    @property
+    def lag(self) -> int:
+        """Samples between the window's last sample and the predicted frame (1, or 0 with include_current)."""
+        return 0 if self.include_current else 1
+
+    def windows(self, stretch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Every window of a stretch series (T, P) and the frame index each one predicts."""
+        first = self.history - 1 + self.lag
+        targets = np.arange(first, len(stretch))
+        if len(targets) == 0:
+            raise RecordingError(f"{len(stretch)} samples are fewer than a history of {self.history} + {self.lag}")
+        starts = targets - self.lag - self.history + 1
+        return np.stack([stretch[s:s + self.history] for s in starts]), targets
+
+    @torch.no_grad()
+    def latents(self, windows: np.ndarray) -> np.ndarray:
+        """Normalised kept latents (M, K) predicted from raw stretch windows (M, history, P)."""
+        x = torch.from_numpy(self.stretch_scaler.forward(windows).astype(np.float32))
+        return torch.cat([self.lstm(x[i:i + BATCH]) for i in range(0, len(x), BATCH)]).numpy()
+
+    @torch.no_grad()
+    def decode(self, normalised: np.ndarray) -> np.ndarray:
+        """Pixel probabilities (M, H, W) of normalised kept latents (M, K)."""
+        z = torch.from_numpy(self.latent_scaler.inverse(normalised).astype(np.float32))
+        return torch.cat([torch.sigmoid(self.autoencoder.decode(z[i:i + BATCH])) for i in range(0, len(z), BATCH)]).numpy()
+
+    @torch.no_grad()
+    def encode(self, frames: np.ndarray) -> np.ndarray:
+        """Raw latent codes (M, F) of frames (M, H, W)."""
+        x = torch.from_numpy(frames)
+        return torch.cat([self.autoencoder.encode(x[i:i + BATCH]) for i in range(0, len(x), BATCH)]).numpy()
+
+    @torch.no_grad()
+    def reconstruct(self, frames: np.ndarray) -> np.ndarray:
+        """Pixel probabilities of the autoencoder's own reconstruction: the ceiling of any imagination."""
+        return self.decode(self.latent_scaler.forward(self.encode(frames)))
+
+    def imagine(self, stretch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(frame indices, probabilities (M, H, W)) imagined from a whole stretch series (T, P)."""
+        windows, targets = self.windows(stretch)
+        return targets, self.decode(self.latents(windows))

@@ -1,0 +1,27 @@
+"""Output paths are checked before any work starts, so a refused run costs nothing and leaves nothing."""
+
+from pathlib import Path
+
+from softarm.errors import OutputError
+
+
+def check_outputs(paths: list[Path], force: bool) -> None:
+    """Refuse before any work: an existing file (unless force), a parent that is a file or is read-only."""
+    for path in paths:
+        if path.is_dir():
+            raise OutputError(f"output {path} is a folder; give a file name ending in .mcap")
+        if path.exists() and not force:
+            raise OutputError(f"output {path} already exists; pass --force to overwrite it")
+        parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
+        if not parent.is_dir():
+            raise OutputError(f"cannot write {path}: {parent} is a file, not a folder")
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise OutputError(f"cannot create the folder of {path}: {e.strerror}") from None
+        probe = path.with_name(path.name + ".part")
+        try:
+            probe.touch()
+            probe.unlink()
+        except OSError as e:
+            raise OutputError(f"cannot write {path}: {e.strerror}") from None
