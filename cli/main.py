@@ -9,9 +9,8 @@ from rich.console import Console
 
 from cli.progress import LazyProgress
 from softarm import __version__
-from softarm.config import DEFAULT_CONFIG_TEXT, load_config
+from softarm.config import ARCHS, DEFAULT_CONFIG_TEXT, load_config
 from softarm.errors import SoftarmError
-from softarm.runtime import ARCHS
 
 app = typer.Typer(help="softarm: a simulated soft arm that learns to picture its own body from its stretch sensors.",
                   no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
@@ -98,7 +97,7 @@ def train(
     recordings: Annotated[list[Path], typer.Argument(help="Recordings (.mcap) to learn from; each is split by time.")],
     out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="Checkpoint file [default: recordings/<first recording>.pt]; metrics go beside it as .metrics.json.")] = None,
     config: Annotated[Optional[Path], typer.Option("--config", "-c", help="TOML config; its [train] section sets the defaults below.")] = None,
-    epochs_ae: Annotated[Optional[int], typer.Option(help="Autoencoder epochs [default: 12].")] = None,
+    epochs_ae: Annotated[Optional[int], typer.Option(help="Autoencoder epochs [default: 20].")] = None,
     epochs_lstm: Annotated[Optional[int], typer.Option(help="LSTM epochs [default: 150].")] = None,
     history: Annotated[Optional[int], typer.Option(help="Stretch samples the LSTM sees [default: 6].")] = None,
     include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].")] = None,
@@ -143,3 +142,71 @@ def train(
         out.print(metrics_table(result.metrics))
         out.print(f"checkpoint {result.checkpoint}, metrics {result.metrics_path}, {result.wall_seconds:.0f} s",
                   markup=False)
+
+
+@app.command()
+def replay(
+    checkpoint: Annotated[Path, typer.Argument(help="Checkpoint from `softarm train`.")],
+    recording: Annotated[Path, typer.Argument(help="Recording (.mcap) to imagine; any seed, offset or amplitude.")],
+    rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Write the Rerun timeline (camera | imagined | difference | fused, signals, IoU).")] = None,
+    mcap: Annotated[Optional[Path], typer.Option("--mcap", help="Write the imagination as MCAP (/imagination/image, /imagination/iou).")] = None,
+    png: Annotated[Optional[Path], typer.Option("--png", help="Write a filmstrip: camera / imagined / difference at evenly spaced times.")] = None,
+    blind: Annotated[Optional[list[str]], typer.Option("--blind", help="Camera blackout START:END in seconds (repeatable); metrics split blind / seeing.")] = None,
+    spawn: Annotated[bool, typer.Option("--spawn", help="Show the timeline in a Rerun viewer.")] = False,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite existing outputs.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No metrics table.")] = False,
+) -> None:
+    """Imagine a recording frame by frame from its stretch sensors and compare with the camera.
+
+    Example: softarm replay recordings/seed0.pt recordings/seed0.mcap --blind 95:100 --rrd recordings/replay.rrd --png recordings/replay.png
+    """
+    from cli.tables import replay_table
+    from softarm.replay_outputs import write_replay
+
+    result = run_or_exit(lambda: write_replay(checkpoint, recording, blind or [], rrd=rrd, mcap=mcap, png=png,
+                                              spawn=spawn, force=force))
+    if not quiet:
+        out.print(replay_table(result.metrics))
+        written = ", ".join(str(p) for p in (rrd, mcap, png) if p is not None)
+        out.print(f"replayed {result.metrics['frames']} frames in {result.wall_seconds:.1f} s "
+                  f"({result.real_time_factor:.0f}x real time)" + (f"; wrote {written}" if written else ""), markup=False)
+
+
+@app.command()
+def demo(
+    folder: Annotated[Path, typer.Option("--folder", help="Where everything goes.")] = Path("recordings/demo"),
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an earlier demo.")] = False,
+) -> None:
+    """The whole pipeline on defaults: simulate 100 s, train, replay with a 5 s camera blackout.
+
+    Example: softarm demo
+    """
+    from cli.tables import metrics_table, replay_table
+    from softarm.replay_outputs import write_replay
+    from softarm.sim import simulate
+    from softarm.train import check_train_outputs, train as run_training
+
+    cfg = load_config()
+    source, ckpt = folder / "seed0.mcap", folder / "model.pt"
+    run_or_exit(lambda: check_train_outputs(ckpt, folder / "train.rrd", resume=False, force=force))
+    with LazyProgress(err, "simulating", cfg.n_frames, "frames") as bar:
+        run_or_exit(lambda: simulate(cfg, source, force=force, progress=bar.update))
+    total = cfg.train.epochs_ae + cfg.train.epochs_lstm
+    with LazyProgress(err, "training", total, "epochs") as bar:
+        def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
+            bar.update(done + (0 if phase == "ae" else cfg.train.epochs_ae),
+                       **{k: f"{k} {v:.4f}" for k, v in losses.items()})
+
+        def run() -> object:
+            from softarm.viz import TrainingView
+            with TrainingView(rrd=folder / "train.rrd") as view:
+                return run_training([source], cfg, ckpt, observer=view, progress=progress)
+        trained = run_or_exit(run)
+    out.print(metrics_table(trained.metrics))
+    outputs = {"rrd": folder / "replay.rrd", "mcap": folder / "imagination.mcap", "png": folder / "filmstrip.png"}
+    result = run_or_exit(lambda: write_replay(ckpt, source, ["95:100"], force=True, **outputs))
+    out.print(replay_table(result.metrics))
+    for label, path in [("recording", source), ("checkpoint", ckpt), ("training view", folder / "train.rrd"),
+                        *[(f"replay {k}", v) for k, v in outputs.items()]]:
+        out.print(f"{label:>15}: {path}", markup=False)
+    out.print(f"open the timelines with: rerun {outputs['rrd']}", markup=False)

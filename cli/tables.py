@@ -25,3 +25,19 @@ def metrics_table(metrics: dict[str, Any]) -> Table:
     mse = metrics["lstm_latent_mse"]
     table.caption = f"LSTM latent MSE (normalised): test {mse['test']:.3f}, imagination {mse['imagine']:.3f}"
     return table
+
+
+REPLAY_ROWS = {"imagination": "imagination, all predicted frames", "imagination_last_5s": "imagination, last 5 s",
+               "imagination_seeing": "imagination, camera seeing", "imagination_blind": "imagination, camera blind",
+               "fused": "fused view (camera + imagination)"}
+
+
+def replay_table(metrics: dict[str, Any]) -> Table:
+    table = Table(title=f"replay of {metrics['recording']} ({metrics['predicted_frames']} imagined frames, "
+                        f"{metrics['blind_frames']} blind)")
+    for column in ("", "BCE", "IoU", "Dice", "tip error (mm)"):
+        table.add_column(column, justify="left" if not column else "right")
+    for key, label in REPLAY_ROWS.items():
+        if metrics.get(key) is not None:
+            scores_row(table, label, metrics[key])
+    return table

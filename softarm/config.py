@@ -120,6 +120,7 @@ class Config:
 
 
 INTEGRATORS = ("symplectic_euler",)
+ARCHS = ("cpu", "gpu", "auto")  # Taichi backends a user can ask for
 
 
 def load_config(path: Union[str, Path, None] = None, overrides: Union[dict[str, Any], None] = None) -> Config:

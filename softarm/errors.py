@@ -23,3 +23,7 @@ class OutputError(SoftarmError):
 
 class CheckpointError(SoftarmError):
     """A checkpoint is missing, not a softarm checkpoint, or does not fit the model or recording."""
+
+
+class BlindRangeError(SoftarmError):
+    """A --blind range is malformed or outside the recording."""

@@ -18,7 +18,7 @@ TOPICS = (IMAGE, STRETCH, NODES, EXCITATION)
 POSITION_DECIMALS = 9  # node positions are written to the nanometre
 
 
-def _schema(title: str, description: str, properties: dict) -> bytes:
+def json_schema(title: str, description: str, properties: dict) -> bytes:
     return orjson.dumps({
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "title": title,
@@ -32,14 +32,14 @@ def _schema(title: str, description: str, properties: dict) -> bytes:
 _NUMBERS = {"type": "array", "items": {"type": "number"}}
 
 JSON_SCHEMAS = {
-    STRETCH: ("softarm.Stretch", _schema(
+    STRETCH: ("softarm.Stretch", json_schema(
         "softarm.Stretch", "Stretch sensor readings: change of distance between two nodes",
         {"stretch": {**_NUMBERS, "description": "one reading per sensor, m"}})),
-    NODES: ("softarm.Nodes", _schema(
+    NODES: ("softarm.Nodes", json_schema(
         "softarm.Nodes", "Positions of every node of the arm",
         {"positions": {"type": "array", "items": {**_NUMBERS, "minItems": 2, "maxItems": 2},
                        "description": "[x, y] per node, m (y up)"}})),
-    EXCITATION: ("softarm.Excitation", _schema(
+    EXCITATION: ("softarm.Excitation", json_schema(
         "softarm.Excitation", "Horizontal displacement of the driven nodes, f(t + t0)",
         {"displacement": {"type": "number", "description": "m"}})),
 }

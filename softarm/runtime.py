@@ -7,9 +7,8 @@ from typing import Union
 import numpy as np
 import taichi as ti
 
+from softarm.config import ARCHS
 from softarm.errors import SoftarmError
-
-ARCHS = ("cpu", "gpu", "auto")
 _started: list[str] = []
 
 

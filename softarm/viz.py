@@ -1,4 +1,5 @@
-"""Live view of `softarm train` in Rerun. The only softarm module that imports rerun: it logs, it computes nothing.
+"""Rerun views: the live view of `softarm train` and replay timelines. The only softarm module that
+imports rerun: it logs, it computes nothing.
 
 Losses are points on the sequence timeline `step`. Each epoch's held-out clip is three image entities,
 `clip/truth`, `clip/reconstruction` and `clip/imagination`, on two timelines: `clip_time` (seconds into
@@ -11,10 +12,16 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 from types import TracebackType
+from typing import TYPE_CHECKING
 
 import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
+
+from softarm.replay import difference_colours, probability_bytes
+
+if TYPE_CHECKING:
+    from softarm.replay import Replay
 
 CLIPS = ("truth", "reconstruction", "imagination")
 
@@ -79,7 +86,7 @@ class TrainingView:
             frames = np.asarray(frames)
             if frames.ndim != 3 or len(frames) != len(times):
                 raise ValueError(f"clip/{name}: expected ({len(times)}, H, W) frames, got shape {frames.shape}")
-            pixels = np.round(np.clip(frames, 0.0, 1.0) * 255).astype(np.uint8)
+            pixels = probability_bytes(frames)
             count, height, width = pixels.shape
             image_format = rr.components.ImageFormat(width=width, height=height, color_model="L",
                                                      channel_datatype="U8")
@@ -105,3 +112,70 @@ class TrainingView:
     def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
                  tb: TracebackType | None) -> None:
         self.close()
+
+
+IMAGES = ("camera", "imagined", "difference", "fused")
+
+
+def replay_blueprint() -> rrb.Blueprint:
+    """Camera | imagined | difference | fused on top; stretch, excitation and IoU below, on sim_time."""
+    return rrb.Blueprint(
+        rrb.Vertical(
+            rrb.Horizontal(*(rrb.Spatial2DView(origin=name, name=name) for name in IMAGES)),
+            rrb.Horizontal(rrb.TimeSeriesView(origin="signals/stretch", name="stretch (m)"),
+                           rrb.TimeSeriesView(origin="signals/excitation", name="excitation (m)"),
+                           rrb.TimeSeriesView(origin="signals/iou", name="imagination IoU")),
+            row_shares=[3, 2],
+        ),
+        rrb.TimePanel(timeline="sim_time"),
+    )
+
+
+def _image_columns(rec: rr.RecordingStream, entity: str, times: rr.TimeColumn, pixels: np.ndarray) -> None:
+    count, height, width = pixels.shape[:3]
+    model = "L" if pixels.ndim == 3 else "RGB"
+    image_format = rr.components.ImageFormat(width=width, height=height, color_model=model, channel_datatype="U8")
+    rec.send_columns(entity, indexes=[times], columns=rr.Image.columns(buffer=pixels.reshape(count, -1),
+                                                                       format=[image_format] * count))
+
+
+def log_replay(result: "Replay", rrd: Path | None = None, spawn: bool = False) -> Path | None:
+    """Write a replay as an .rrd (atomically, via .part) and/or show it in a spawned viewer."""
+    if rrd is None and not spawn:
+        return None
+    rec = rr.RecordingStream("softarm-replay")
+    sinks: list[rr.GrpcSink | rr.FileSink] = []
+    if spawn:
+        rec.spawn(connect=False)
+        sinks.append(rr.GrpcSink())
+    part = Path(rrd).with_name(Path(rrd).name + ".part") if rrd is not None else None
+    if part is not None:
+        sinks.append(rr.FileSink(part))
+    rec.set_sinks(*sinks, default_blueprint=replay_blueprint())
+    try:
+        times = rr.TimeColumn("sim_time", duration=result.times)
+        truth = result.recording.frames
+        _image_columns(rec, "camera/image", times, truth * np.uint8(255))
+        _image_columns(rec, "imagined/image", times, probability_bytes(result.imagined))
+        _image_columns(rec, "difference/image", times, difference_colours(truth, result.imagined))
+        _image_columns(rec, "fused/image", times, probability_bytes(result.fused))
+        nodes = result.nodes_px
+        if nodes is not None:
+            rec.send_columns("camera/nodes", indexes=[times], columns=rr.Points2D.columns(
+                positions=nodes.reshape(-1, 2)).partition([nodes.shape[1]] * len(nodes)))
+        for i in range(result.recording.stretch.shape[1]):
+            rec.send_columns(f"signals/stretch/{i}", indexes=[times],
+                             columns=rr.Scalars.columns(scalars=result.recording.stretch[:, i]))
+        rec.send_columns("signals/excitation", indexes=[times],
+                         columns=rr.Scalars.columns(scalars=result.recording.displacement))
+        seen = result.predicted
+        rec.send_columns("signals/iou", indexes=[rr.TimeColumn("sim_time", duration=result.times[seen])],
+                         columns=rr.Scalars.columns(scalars=result.iou[seen]))
+        rec.send_columns("signals/blind", indexes=[times], columns=rr.Scalars.columns(
+            scalars=result.blind.astype(np.float64)))
+        rec.flush()
+    finally:
+        rec.disconnect()
+    if part is not None and part.exists():
+        part.replace(rrd)
+    return Path(rrd) if rrd is not None else None

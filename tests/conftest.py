@@ -1,9 +1,34 @@
 import pytest
 
+from softarm.config import load_config
 from softarm.runtime import init_taichi
+
+TINY = {"train.epochs_ae": 10, "train.epochs_lstm": 12, "train.batch_ae": 32, "train.latent": 8,
+        "train.lstm_hidden": 32, "train.lr_ae": 0.003}
 
 
 @pytest.fixture(scope="session", autouse=True)
 def taichi_on_cpu():
     """Taichi starts once per test process, on the CPU with float64, as the CLI would start it."""
     init_taichi("cpu")
+
+
+@pytest.fixture(scope="session")
+def recordings(tmp_path_factory):
+    """Two 4 s recordings (seeds 0 and 1) and a 1 s one with 3 sensors."""
+    from softarm.sim import simulate
+
+    folder = tmp_path_factory.mktemp("rec")
+    for seed in (0, 1):
+        simulate(load_config(overrides={"run.duration": 4.0, "run.seed": seed}), folder / f"s{seed}.mcap")
+    simulate(load_config(overrides={"run.duration": 1.0, "sensors.pairs": [[3, 27], [5, 29], [27, 54]]}),
+             folder / "three_sensors.mcap")
+    return folder
+
+
+@pytest.fixture(scope="session")
+def tiny_checkpoint(recordings, tmp_path_factory):
+    """A few seconds of training on the 4 s seed-0 recording."""
+    from softarm.train import train
+
+    return train([recordings / "s0.mcap"], load_config(overrides=TINY), tmp_path_factory.mktemp("ckpt") / "tiny.pt")

@@ -11,32 +11,12 @@ from softarm.checkpoint import load_checkpoint
 from softarm.config import load_config
 from softarm.features import Scaler
 from softarm.imagine import Imaginer
-from softarm.sim import simulate
 from softarm.train import train
 
-TINY = {"train.epochs_ae": 10, "train.epochs_lstm": 12, "train.batch_ae": 32, "train.latent": 8,
-        "train.lstm_hidden": 32, "train.lr_ae": 0.003}
+from conftest import TINY
 
-
-@pytest.fixture(scope="module")
-def recordings(tmp_path_factory):
-    """Two 4 s recordings (seeds 0 and 1) and one with 3 sensors."""
-    folder = tmp_path_factory.mktemp("rec")
-    for seed in (0, 1):
-        simulate(load_config(overrides={"run.duration": 4.0, "run.seed": seed}), folder / f"s{seed}.mcap")
-    simulate(load_config(overrides={"run.duration": 1.0, "sensors.pairs": [[3, 27], [5, 29], [27, 54]]}),
-             folder / "three_sensors.mcap")
-    return folder
-
-
-@pytest.fixture(scope="module")
-def trained(recordings, tmp_path_factory):
-    out = tmp_path_factory.mktemp("ckpt") / "tiny.pt"
-    result = train([recordings / "s0.mcap"], load_config(overrides=TINY), out)
-    return result
-
-
-def test_training_learns_and_beats_the_mean_frame(trained):
+def test_training_learns_and_beats_the_mean_frame(tiny_checkpoint):
+    trained = tiny_checkpoint
     assert trained.complete
     state = load_checkpoint(trained.checkpoint)
     losses = state["losses"]
@@ -50,7 +30,8 @@ def test_training_learns_and_beats_the_mean_frame(trained):
     assert json.loads(trained.metrics_path.read_text()) == json.loads(json.dumps(m))
 
 
-def test_checkpoint_loads_with_weights_only_and_rebuilds_the_imaginer(trained):
+def test_checkpoint_loads_with_weights_only_and_rebuilds_the_imaginer(tiny_checkpoint):
+    trained = tiny_checkpoint
     state = torch.load(trained.checkpoint, weights_only=True)
     imaginer = Imaginer.from_checkpoint(state)
     assert state["recordings"][0]["name"] == "s0.mcap" and len(state["recordings"][0]["sha256"]) == 16
@@ -77,7 +58,8 @@ def test_feature_filter_drops_constant_features_and_normalisation_round_trips():
     assert np.array_equal(again.forward(data), normalised)
 
 
-def test_resume_after_an_interruption_ends_exactly_like_an_uninterrupted_run(recordings, trained, tmp_path):
+def test_resume_after_an_interruption_ends_exactly_like_an_uninterrupted_run(recordings, tiny_checkpoint, tmp_path):
+    trained = tiny_checkpoint
     out = tmp_path / "resumed.pt"
     config = load_config(overrides=TINY)
     batches = iter(range(10**6))
