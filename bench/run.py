@@ -3,7 +3,8 @@
     python bench/run.py [--quick] [--out bench/results]
 
 Prints a Markdown table and writes it, with the raw figures, to bench/results/latest.{md,json}.
-Sections: physics (Taichi vs the float64 NumPy reference), rasteriser (Taichi vs cv2.fillPoly),
+Sections: physics (Taichi vs the float64 NumPy reference), physics vs C (Taichi on every core vs
+hand-written serial C -O3 on one core, bench/physics_reference.c), rasteriser (Taichi vs cv2.fillPoly),
 end to end (`softarm sim` with defaults, start-up included, vs real time).
 """
 
@@ -30,6 +31,8 @@ from softarm.raster import Rasteriser
 from softarm.reference import simulate_reference
 from softarm.runtime import host, init_taichi
 from softarm.sim import MAX_BLOCK_FRAMES
+
+from c_reference import CReference, find_compiler  # bench/c_reference.py, next to this script
 
 
 def best_of(repeats: int, action: Callable[[], object]) -> float:
@@ -67,6 +70,50 @@ def physics_rows(config, quick: bool) -> list[dict]:
         rate = arms * blocks * 100 * i.substeps * springs / seconds
         rows.append(row(f"physics, {arms} arm{'s' if arms > 1 else ''}", rate, numpy_rate,
                         "spring updates/s", "NumPy reference (float64, arms one after another)"))
+    return rows
+
+
+def c_reference_rows(config, quick: bool) -> list[dict]:
+    """Taichi's batch throughput (all cores) against the hand-written C loop on one core; and C against NumPy.
+
+    The C loop steps arms one after another, so its 1-arm rate is its rate for any batch: every row
+    divides by that one figure. Each measurement covers about the same number of spring updates, so
+    big batches run fewer frames (in blocks of 100, as `softarm sim` steps them).
+    """
+    if find_compiler() is None:
+        print("physics vs C: skipped, no C compiler (cc or gcc) on PATH", file=sys.stderr)
+        return []
+    body = build_body(config)
+    x, still = hanging_equilibrium(body), np.zeros((body.n_nodes, 2))
+    i = config.integration
+    per_frame = i.substeps * len(body.springs)  # spring updates per arm and frame
+    target, repeats = (2e7, 1) if quick else (1e8, 3)  # spring updates per measurement: ~0.2 s / ~1-2 s
+    against = "hand-written C -O3, one core"
+
+    def frames_for(arms: int) -> int:
+        return max(10, round(target / (arms * per_frame)))
+
+    def in_blocks(step: Callable[[int], object], frames: int) -> None:
+        for start in range(0, frames, 100):
+            step(min(100, frames - start))
+
+    drive = drive_for_seed(config.excitation, 0)
+    c = CReference(body, [drive], i.frame_dt, i.substeps, x, still)
+    frames = frames_for(1)
+    c.advance(100)  # warm up caches and the drive's first cycle outside the timing
+    c_rate = frames * per_frame / best_of(3, lambda: in_blocks(c.advance, frames))  # the divisor of every row
+    numpy_frames = 5 if quick else 20
+    numpy_s = best_of(3, lambda: simulate_reference(body, drive, x, still, i.frame_dt, i.substeps, numpy_frames + 1))
+    rows = [row("physics, 1 arm, C vs NumPy", c_rate, numpy_frames * per_frame / numpy_s, "spring updates/s",
+                "NumPy reference (float64)")]
+    for arms in (1, 16, 64, 256):
+        drives = [drive_for_seed(config.excitation, s) for s in range(arms)]
+        sim = Simulator(body, drives, i.frame_dt, i.substeps, i.blowup_distance, x, still, 100)
+        frames = frames_for(arms)
+        sim.step_block(min(100, frames))  # compile (or load from the offline cache) and warm up outside the timing
+        seconds = best_of(repeats, lambda: in_blocks(sim.step_block, frames))
+        rows.append(row(f"physics vs C, {arms} arm{'s' if arms > 1 else ''}", arms * frames * per_frame / seconds,
+                        c_rate, "spring updates/s", against))
     return rows
 
 
@@ -129,7 +176,8 @@ def main() -> None:
     args = ap.parse_args()
     init_taichi("cpu")
     config = load_config()
-    rows = physics_rows(config, args.quick) + raster_rows(config, args.quick) + end_to_end_rows(args.quick)
+    rows = (physics_rows(config, args.quick) + c_reference_rows(config, args.quick) + raster_rows(config, args.quick)
+            + end_to_end_rows(args.quick))
     table = to_markdown(rows)
     print(f"machine: {machine()}\n\n{table}")
     args.out.mkdir(parents=True, exist_ok=True)

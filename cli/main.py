@@ -1,6 +1,7 @@
 """The `softarm` command line: parse options, call the softarm library, print. No logic of its own."""
 
 import sys
+import warnings
 from pathlib import Path
 from typing import Annotated, Callable, Optional, TypeVar
 
@@ -18,6 +19,14 @@ app = typer.Typer(help="softarm: a simulated soft arm that learns to picture its
 err = Console(stderr=True, highlight=False, soft_wrap=True)
 out = Console(highlight=False, soft_wrap=True)
 T = TypeVar("T")
+
+
+def one_line_warning(message: Warning | str, category: type[Warning], *_: object, **__: object) -> None:
+    """Warnings (a truncated recording, an unreachable viewer) as one 'warning:' line, no source echo."""
+    err.print(f"warning: {message}", markup=False)
+
+
+warnings.showwarning = one_line_warning
 
 
 def run_or_exit(action: Callable[[], T]) -> T:

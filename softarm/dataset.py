@@ -48,8 +48,9 @@ class Dataset:
         return self.sequences[0].stretch.shape[1]
 
     def frames(self, segment: str) -> np.ndarray:
-        """(M, H, W) uint8 frames of a segment, all recordings in order."""
-        return np.concatenate([s.frames[slice(*s.segment(segment))] for s in self.sequences])
+        """(M, H, W) uint8 frames of a segment, all recordings in order (a view for one recording)."""
+        parts = [s.frames[slice(*s.segment(segment))] for s in self.sequences]
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
     def windows(self, segment: str, history: int, include_current: bool) -> tuple[np.ndarray, np.ndarray]:
         """Stretch windows (M, history, P) and, per window, the (sequence, frame) it predicts (M, 2).

@@ -6,6 +6,7 @@ randomness comes from its own seed and the learning rate from the step count, a 
 epoch's checkpoint ends exactly where an uninterrupted run ends (on the CPU).
 """
 
+import json
 import math
 import time
 from dataclasses import dataclass
@@ -102,8 +103,7 @@ class Trainer:
     # --- checkpoint -------------------------------------------------------------------------------
 
     def _previous_run(self) -> dict[str, Any]:
-        state = load_checkpoint(self.out)
-        return state
+        return load_checkpoint(self.out)
 
     def _restore(self, state: dict[str, Any]) -> None:
         fingerprints = [r["sha256"] for r in self.data.fingerprints()]
@@ -144,30 +144,45 @@ class Trainer:
 
     # --- autoencoder ------------------------------------------------------------------------------
 
-    def _train_autoencoder(self, stop: Callable[[], bool]) -> bool:
-        frames = torch.from_numpy(self.data.frames("train")).float()
-        test = torch.from_numpy(self.data.frames("test")).float()
-        batch, epochs = self.t.batch_ae, self.t.epochs_ae
-        steps_per_epoch = math.ceil(len(frames) / batch)
+    def _epochs(self, model: torch.nn.Module, optimizer: torch.optim.Optimizer, phase: int, items: int,
+                batch: int, epochs: int, base_lr: float, batch_loss: Callable[[torch.Tensor], torch.Tensor],
+                after_epoch: Callable[[float], None], stop: Callable[[], bool]) -> bool:
+        """The training loop of either network, from self.epoch to `epochs`; False when `stop()` interrupts it."""
+        steps_per_epoch = math.ceil(items / batch)
         while self.epoch < epochs:
-            self.ae.train()
-            order, total = epoch_order(len(frames), self.t.seed, 0, self.epoch), 0.0
-            for i, start in enumerate(range(0, len(frames), batch)):
-                step = self.epoch * steps_per_epoch + i
-                for group in self.ae_opt.param_groups:
-                    group["lr"] = cosine_lr(self.t.lr_ae, step, epochs * steps_per_epoch)
-                x = frames[order[start:start + batch]]
-                loss = F.binary_cross_entropy_with_logits(self.ae(x), x)
-                self.ae_opt.zero_grad(set_to_none=True)
+            model.train()
+            order, total = epoch_order(items, self.t.seed, phase, self.epoch), 0.0
+            for i, start in enumerate(range(0, items, batch)):
+                for group in optimizer.param_groups:
+                    group["lr"] = cosine_lr(base_lr, self.epoch * steps_per_epoch + i, epochs * steps_per_epoch)
+                index = order[start:start + batch]
+                loss = batch_loss(index)
+                optimizer.zero_grad(set_to_none=True)
                 loss.backward()
-                self.ae_opt.step()
-                total += loss.item() * len(x)
+                optimizer.step()
+                total += loss.item() * len(index)
                 if stop():
                     return False
             self.epoch += 1
-            self._log_epoch("ae", total / len(frames), self._ae_loss(test))
+            after_epoch(total / items)
+        return True
+
+    def _train_autoencoder(self, stop: Callable[[], bool]) -> bool:
+        frames = torch.from_numpy(self.data.frames("train"))  # uint8: a batch becomes float only when used
+        test = torch.from_numpy(self.data.frames("test"))
+
+        def batch_loss(index: torch.Tensor) -> torch.Tensor:
+            x = frames[index].float()
+            return F.binary_cross_entropy_with_logits(self.ae(x), x)
+
+        def after_epoch(train_loss: float) -> None:
+            self._log_epoch("ae", train_loss, self._ae_loss(test))
             self._save()
             self._show_clip(imagination=False)
+
+        if not self._epochs(self.ae, self.ae_opt, 0, len(frames), self.t.batch_ae, self.t.epochs_ae, self.t.lr_ae,
+                            batch_loss, after_epoch, stop):
+            return False
         self.phase, self.epoch = "lstm", 0
         self._fit_scalers()
         self._make_lstm()
@@ -177,9 +192,11 @@ class Trainer:
     @torch.no_grad()
     def _ae_loss(self, frames: torch.Tensor) -> float:
         self.ae.eval()
-        return float(sum(F.binary_cross_entropy_with_logits(self.ae(frames[i:i + 512]), frames[i:i + 512],
-                                                            reduction="sum") for i in range(0, len(frames), 512))
-                     / frames.numel())
+        total = 0.0
+        for i in range(0, len(frames), 512):
+            x = frames[i:i + 512].float()
+            total += F.binary_cross_entropy_with_logits(self.ae(x), x, reduction="sum").item()
+        return total / frames.numel()
 
     def _fit_scalers(self) -> None:
         """Encode the training frames; drop constant latent features; normalise with training statistics."""
@@ -208,31 +225,20 @@ class Trainer:
     def _train_lstm(self, stop: Callable[[], bool]) -> bool:
         x, y = self._lstm_pairs("train")
         x_val, y_val = self._lstm_pairs("test")
-        batch, epochs = self.t.batch_lstm, self.t.epochs_lstm
-        steps_per_epoch = math.ceil(len(x) / batch)
-        while self.epoch < epochs:
-            self.lstm.train()
-            order, total = epoch_order(len(x), self.t.seed, 1, self.epoch), 0.0
-            for i, start in enumerate(range(0, len(x), batch)):
-                step = self.epoch * steps_per_epoch + i
-                for group in self.lstm_opt.param_groups:
-                    group["lr"] = cosine_lr(self.t.lr_lstm, step, epochs * steps_per_epoch)
-                idx = order[start:start + batch]
-                loss = F.mse_loss(self.lstm(x[idx]), y[idx])
-                self.lstm_opt.zero_grad(set_to_none=True)
-                loss.backward()
-                self.lstm_opt.step()
-                total += loss.item() * len(idx)
-                if stop():
-                    return False
-            self.epoch += 1
+
+        def after_epoch(train_loss: float) -> None:
             self.lstm.eval()
             with torch.no_grad():
                 val = F.mse_loss(self.lstm(x_val), y_val).item()
-            self._log_epoch("lstm", total / len(x), val)
+            self._log_epoch("lstm", train_loss, val)
             self._save()
-            if self.epoch % 10 == 0 or self.epoch == epochs:
+            if self.epoch % 10 == 0 or self.epoch == self.t.epochs_lstm:
                 self._show_clip(imagination=True)
+
+        if not self._epochs(self.lstm, self.lstm_opt, 1, len(x), self.t.batch_lstm, self.t.epochs_lstm,
+                            self.t.lr_lstm, lambda index: F.mse_loss(self.lstm(x[index]), y[index]),
+                            after_epoch, stop):
+            return False
         self.phase = "done"
         return True
 
@@ -322,8 +328,6 @@ def train(paths: Sequence[Union[str, Path]], config: Config, out: Union[str, Pat
           observer: Optional[TrainingObserver] = None, progress: Optional[Progress] = None,
           stop: Callable[[], bool] = lambda: False) -> TrainResult:
     """Train (or with resume, continue) on recordings; write the checkpoint and, at the end, its metrics JSON."""
-    import json
-
     start = time.perf_counter()
     trainer = Trainer(paths, config, Path(out), resume, observer, progress)
     complete = trainer.run(stop)
