@@ -30,7 +30,7 @@ from softarm.physics import Simulator
 from softarm.raster import Rasteriser
 from softarm.reference import simulate_reference
 from softarm.runtime import host, init_taichi
-from softarm.sim import MAX_BLOCK_FRAMES
+from softarm.sim import MAX_BLOCK_FRAMES, simulate
 
 from c_reference import CReference, find_compiler  # bench/c_reference.py, next to this script
 
@@ -155,6 +155,19 @@ def end_to_end_rows(quick: bool) -> list[dict]:
                 "x real time", "real time")]
 
 
+def stage_table(quick: bool) -> str:
+    """Where one in-process default run spends its time, so the slowest stage is visible."""
+    duration = 10.0 if quick else 100.0
+    with tempfile.TemporaryDirectory() as folder:
+        result = simulate(load_config(overrides={"run.duration": duration}), Path(folder) / "run.mcap")
+    lines = [f"Stages of one {duration:g} s default run in process ({result.wall_seconds:.2f} s, "
+             f"{result.real_time_factor:.0f}x real time, Taichi already started):", "",
+             "| stage | seconds | share |", "|---|---:|---:|"]
+    for stage, seconds in sorted(result.stage_seconds.items(), key=lambda kv: -kv[1]):
+        lines.append(f"| {stage} | {seconds:.3f} | {seconds / result.wall_seconds:.0%} |")
+    return "\n".join(lines)
+
+
 def to_markdown(rows: list[dict]) -> str:
     lines = ["| benchmark | softarm | reference | ratio | against |", "|---|---:|---:|---:|---|"]
     for r in rows:
@@ -178,7 +191,7 @@ def main() -> None:
     config = load_config()
     rows = (physics_rows(config, args.quick) + c_reference_rows(config, args.quick) + raster_rows(config, args.quick)
             + end_to_end_rows(args.quick))
-    table = to_markdown(rows)
+    table = to_markdown(rows) + "\n\n" + stage_table(args.quick)
     print(f"machine: {machine()}\n\n{table}")
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "latest.md").write_text(f"Measured on {machine()}.\n\n{table}\n")

@@ -14,9 +14,10 @@ import taichi as ti
 from softarm.body import Body
 from softarm.errors import SimulationError
 from softarm.excitation import Drive
-from softarm.runtime import device_array, host, task_layout, upload
+from softarm.runtime import device_array, device_vectors, host, task_layout, upload
 
 f64nd = ti.types.ndarray(dtype=ti.f64)
+v2nd = ti.types.ndarray(dtype=ti.types.vector(2, ti.f64))  # one index computation per [x, y] pair
 i32nd = ti.types.ndarray(dtype=ti.i32)
 
 
@@ -37,39 +38,32 @@ def drive_at(t: ti.f64, amplitude: ti.f64, freqs: ti.template()) -> ti.math.vec2
 def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.template(), springs: ti.template(),
                       rest_len: ti.template(), stiffness: ti.template(), damping: ti.template(),
                       mass: ti.template(), gx: ti.f64, gy: ti.f64):
+    g = ti.Vector([gx, gy], ti.f64)
     for i in range(x.shape[1]):
-        force[a, i, 0] = mass[i] * gx
-        force[a, i, 1] = mass[i] * gy
+        force[a, i] = mass[i] * g
     for s in range(springs.shape[0]):
         i, j = springs[s, 0], springs[s, 1]
-        dx, dy = x[a, j, 0] - x[a, i, 0], x[a, j, 1] - x[a, i, 1]
-        length = ti.sqrt(dx * dx + dy * dy)
-        ux, uy = dx / length, dy / length
-        rate = (v[a, j, 0] - v[a, i, 0]) * ux + (v[a, j, 1] - v[a, i, 1]) * uy
-        magnitude = stiffness[s] * (length - rest_len[s]) + damping[s] * rate
-        # Plain read-modify-write: `+=` on an ndarray compiles to an atomic, needless in one arm's serial loop.
-        force[a, i, 0] = force[a, i, 0] + magnitude * ux
-        force[a, i, 1] = force[a, i, 1] + magnitude * uy
-        force[a, j, 0] = force[a, j, 0] - magnitude * ux
-        force[a, j, 1] = force[a, j, 1] - magnitude * uy
+        d = x[a, j] - x[a, i]
+        length = ti.sqrt(d[0] * d[0] + d[1] * d[1])
+        u = d * (1.0 / length)
+        magnitude = stiffness[s] * (length - rest_len[s]) + damping[s] * (v[a, j] - v[a, i]).dot(u)
+        f = magnitude * u
+        force[a, i] = force[a, i] + f
+        force[a, j] = force[a, j] - f
 
 
 @ti.func
 def substep(a: int, t: ti.f64, h: ti.f64, x: ti.template(), v: ti.template(), force: ti.template(),
             rest: ti.template(), mass: ti.template(), free: ti.template(), amplitude: ti.template(),
             freqs: ti.template()):
-    """Semi-implicit Euler: free nodes take the new velocity into the new position; driven nodes follow f(t)."""
     drive = drive_at(t, amplitude[a], freqs)
     for i in range(x.shape[1]):
         if free[i]:
-            for d in ti.static(range(2)):
-                v[a, i, d] = v[a, i, d] + h * force[a, i, d] / mass[i]
-                x[a, i, d] = x[a, i, d] + h * v[a, i, d]
+            v[a, i] = v[a, i] + h * force[a, i] / mass[i]
+            x[a, i] = x[a, i] + h * v[a, i]
         else:
-            x[a, i, 0] = rest[i, 0] + drive[0]
-            x[a, i, 1] = rest[i, 1]
-            v[a, i, 0] = drive[1]
-            v[a, i, 1] = 0.0
+            x[a, i] = rest[i] + ti.Vector([drive[0], 0.0], ti.f64)
+            v[a, i] = ti.Vector([drive[1], 0.0], ti.f64)
 
 
 @ti.func
@@ -77,15 +71,15 @@ def first_far_node(a: int, x: ti.template(), rest: ti.template(), free: ti.templ
     """Index of the first free node further than `limit` from rest (NaN counts as far), or -1."""
     found = -1
     for i in range(x.shape[1]):
-        dx, dy = x[a, i, 0] - rest[i, 0], x[a, i, 1] - rest[i, 1]
+        dx, dy = x[a, i][0] - rest[i][0], x[a, i][1] - rest[i][1]
         if free[i] and found < 0 and not (dx * dx + dy * dy <= limit * limit):
             found = i
     return found
 
 
 @ti.kernel
-def advance_frames(x: f64nd, v: f64nd, force: f64nd, history: f64nd, status: i32nd,
-                   rest: f64nd, mass: f64nd, free: i32nd, springs: i32nd, rest_len: f64nd,
+def advance_frames(x: v2nd, v: v2nd, force: v2nd, history: f64nd, status: i32nd,
+                   rest: v2nd, mass: f64nd, free: i32nd, springs: i32nd, rest_len: f64nd,
                    stiffness: f64nd, damping: f64nd, amplitude: f64nd, time_offset: f64nd, freqs: f64nd,
                    gx: ti.f64, gy: ti.f64, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
                    frame_dt: ti.f64, blowup_distance: ti.f64, tasks: ti.i32, spacing: ti.i32):
@@ -104,8 +98,8 @@ def advance_frames(x: f64nd, v: f64nd, force: f64nd, history: f64nd, status: i32
                 a = task + j * tasks
                 for f in range(n_frames):
                     for i in range(x.shape[1]):
-                        history[a, f, i, 0] = x[a, i, 0]
-                        history[a, f, i, 1] = x[a, i, 1]
+                        history[a, f, i, 0] = x[a, i][0]
+                        history[a, f, i, 1] = x[a, i][1]
                     if status[a, 0] < 0:
                         k = first_frame + f
                         for s in range(substeps):
@@ -129,12 +123,12 @@ class Simulator:
         self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
         self.arms, self.block_frames, self.frame = arms, block_frames, 0
 
-        self.x = upload(np.broadcast_to(positions, (arms, n, 2)).astype(np.float64))
-        self.v = upload(np.broadcast_to(velocities, (arms, n, 2)).astype(np.float64))
-        self.force = device_array((arms, n, 2), "float64")
+        self.x = upload(np.broadcast_to(positions, (arms, n, 2)).astype(np.float64), vectors=True)
+        self.v = upload(np.broadcast_to(velocities, (arms, n, 2)).astype(np.float64), vectors=True)
+        self.force = device_vectors((arms, n))
         self.history = device_array((arms, block_frames, n, 2), "float64")
         self.status = upload(np.full((arms, 2), -1, np.int32))
-        self._model = (upload(body.rest), upload(body.masses), upload(body.free.astype(np.int32)),
+        self._model = (upload(body.rest, vectors=True), upload(body.masses), upload(body.free.astype(np.int32)),
                        upload(body.springs.astype(np.int32)), upload(body.rest_lengths), upload(body.stiffness),
                        upload(body.damping), upload(np.array([d.amplitude for d in drives])),
                        upload(np.array([d.time_offset for d in drives])),

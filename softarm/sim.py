@@ -22,6 +22,19 @@ from softarm.sensors import stretch
 DEFAULT_FOLDER = Path("recordings")
 
 
+class Laps:
+    """Wall time per stage of the loop, so a user (and the benchmark) sees which stage is the slowest."""
+
+    def __init__(self) -> None:
+        self.seconds: dict[str, float] = {}
+        self._last = time.perf_counter()
+
+    def lap(self, stage: str) -> None:
+        now = time.perf_counter()
+        self.seconds[stage] = self.seconds.get(stage, 0.0) + now - self._last
+        self._last = now
+
+
 @dataclass(frozen=True)
 class SimResult:
     paths: list[Path]
@@ -29,6 +42,7 @@ class SimResult:
     complete: bool        # False when the run was interrupted
     wall_seconds: float
     simulated_seconds: float
+    stage_seconds: dict[str, float]  # setup, physics, camera, sensors, recording (encode + write), closing
 
     @property
     def bytes(self) -> int:
@@ -81,6 +95,7 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     closes every file with complete = "false"; any error removes every file of the run.
     """
     start = time.perf_counter()
+    laps = Laps()
     paths = output_paths(config, out)
     check_outputs(paths, force)
     body = build_body(config)
@@ -101,26 +116,32 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     try:
         for path, drive, seed, (p0, v0) in zip(paths, drives, seeds, starts):
             writers.append(RecordingWriter(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt))
+        laps.lap("setup")
         done = 0
         with stop_on_signal() as caught:
             while done < config.n_frames and not caught:
                 n = min(block_frames, config.n_frames - done)
                 sim.step_block(n)
-                images = camera.render(sim.history, n)
                 positions = host(sim.history)[:, :n]
+                laps.lap("physics")
+                images = camera.render(sim.history, n)
+                laps.lap("camera")
                 readings = stretch(positions, body.rest, body.sensors)
                 times = np.arange(done, done + n) * integ.frame_dt
+                laps.lap("sensors")
                 for arm, writer in enumerate(writers):
                     writer.write(images[arm], readings[arm], positions[arm], drives[arm].displacement(times))
+                laps.lap("recording")
                 done += n
                 if progress:
                     progress(done)
             complete = not caught
         for writer in writers:
             writer.close(complete)
+        laps.lap("closing")
     except BaseException:
         for writer in writers:
             writer.discard()
         raise
     return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,
-                     simulated_seconds=done * integ.frame_dt)
+                     simulated_seconds=done * integ.frame_dt, stage_seconds=laps.seconds)
