@@ -15,7 +15,8 @@ from softarm.interrupt import stop_on_signal
 from softarm.outputs import check_outputs
 from softarm.physics import Simulator
 from softarm.raster import Rasteriser
-from softarm.recorder import RecordingWriter, model_metadata
+from softarm.recorder import model_metadata
+from softarm.recorder_process import RecorderProcess
 from softarm.runtime import host, init_taichi
 from softarm.sensors import stretch
 
@@ -42,7 +43,7 @@ class SimResult:
     complete: bool        # False when the run was interrupted
     wall_seconds: float
     simulated_seconds: float
-    stage_seconds: dict[str, float]  # setup, physics, camera, sensors, recording (encode + write), closing
+    stage_seconds: dict[str, float]  # wall time of setup, physics, camera, sensors, recording
 
     @property
     def bytes(self) -> int:
@@ -112,12 +113,12 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
                     np.stack([p for p, _ in starts]), np.stack([v for _, v in starts]), block_frames)
     camera = Rasteriser(config.camera, body.outline, len(drives), block_frames)
 
-    writers: list[RecordingWriter] = []
+    specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
+             for path, drive, seed, (p0, v0) in zip(paths, drives, seeds, starts)]
+    recorder = RecorderProcess(specs)
+    laps.lap("setup")
+    done = 0
     try:
-        for path, drive, seed, (p0, v0) in zip(paths, drives, seeds, starts):
-            writers.append(RecordingWriter(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt))
-        laps.lap("setup")
-        done = 0
         with stop_on_signal() as caught:
             while done < config.n_frames and not caught:
                 n = min(block_frames, config.n_frames - done)
@@ -128,20 +129,18 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
                 laps.lap("camera")
                 readings = stretch(positions, body.rest, body.sensors)
                 times = np.arange(done, done + n) * integ.frame_dt
+                displacements = np.stack([d.displacement(times) for d in drives])
                 laps.lap("sensors")
-                for arm, writer in enumerate(writers):
-                    writer.write(images[arm], readings[arm], positions[arm], drives[arm].displacement(times))
-                laps.lap("recording")
+                recorder.write(images, readings, positions, displacements)
+                laps.lap("recording (queue)")
                 done += n
                 if progress:
                     progress(done)
             complete = not caught
-        for writer in writers:
-            writer.close(complete)
-        laps.lap("closing")
+        recorder.close(complete)
+        laps.lap("recording (rest, after the physics)")
     except BaseException:
-        for writer in writers:
-            writer.discard()
+        recorder.discard()
         raise
     return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,
                      simulated_seconds=done * integ.frame_dt, stage_seconds=laps.seconds)
