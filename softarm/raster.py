@@ -4,8 +4,8 @@ A pixel is 1 exactly when its centre lies inside the outline polygon by the even
 task draws whole frames, edge by edge: an edge that crosses the centre line of row r at u = xc
 flips every pixel whose centre lies left of it (c + 0.5 < xc), the same test as a ray cast to the
 right from each centre. Rather than flipping those pixels one by one, the edge leaves a marker at
-the last of them and one right-to-left sweep per row turns the markers into parity: O(edges x rows
-crossed + pixels) per frame.
+the last of them and one right-to-left sweep per row, over the span where it has markers, turns the
+markers into parity: O(edges x rows crossed + arm width x rows) per frame, plus clearing the frame.
 """
 
 import numpy as np
@@ -21,8 +21,10 @@ u8nd = ti.types.ndarray(dtype=ti.u8)
 
 
 @ti.func
-def mark_edge(a: int, f: int, x0: ti.f64, y0: ti.f64, x1: ti.f64, y1: ti.f64, images: ti.template()):
-    """Flip the marker of every row whose centre line the edge crosses, at the last pixel left of the crossing."""
+def mark_edge(a: int, f: int, x0: ti.f64, y0: ti.f64, x1: ti.f64, y1: ti.f64, images: ti.template(),
+              spans: ti.template()):
+    """Flip the marker of every row whose centre line the edge crosses, at the last pixel left of the
+    crossing, and widen that row's span of markers [spans[.., 0], spans[.., 1])."""
     height, width = images.shape[2], images.shape[3]
     # Rows r with y > r + 0.5 are those below ceil(y - 0.5); the crossings lie between the two ends'
     # counts. One row of slack on each side, tested exactly, keeps ties identical to the direct rule.
@@ -35,10 +37,12 @@ def mark_edge(a: int, f: int, x0: ti.f64, y0: ti.f64, x1: ti.f64, y1: ti.f64, im
             left = ti.cast(ti.min(ti.max(ti.ceil(xc - 0.5), 0.0), width), ti.i32)  # clamp, then convert
             if left > 0:
                 images[a, f, r, left - 1] = images[a, f, r, left - 1] ^ ti.u8(1)
+                spans[a, f, r, 0] = ti.min(spans[a, f, r, 0], left - 1)
+                spans[a, f, r, 1] = ti.max(spans[a, f, r, 1], left)
 
 
 @ti.kernel
-def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, images: u8nd,
+def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, images: u8nd, spans: i32nd,
               tasks: ti.i32, spacing: ti.i32):
     """images[a, f] = the outline of history[a, f] (node positions, m) seen through M, for f < n_frames.
 
@@ -56,6 +60,9 @@ def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, images
                 a, f = item // n_frames, item % n_frames
                 for r, c in ti.ndrange(height, width):
                     images[a, f, r, c] = ti.u8(0)
+                for r in range(height):
+                    spans[a, f, r, 0] = width
+                    spans[a, f, r, 1] = 0
                 first = outline[n_edges - 1]
                 x0 = history[a, f, first, 0] * M[0, 0] + history[a, f, first, 1] * M[0, 1] + M[0, 2]
                 y0 = history[a, f, first, 0] * M[1, 0] + history[a, f, first, 1] * M[1, 1] + M[1, 2]
@@ -63,14 +70,18 @@ def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, images
                     node = outline[e]
                     x1 = history[a, f, node, 0] * M[0, 0] + history[a, f, node, 1] * M[0, 1] + M[0, 2]
                     y1 = history[a, f, node, 0] * M[1, 0] + history[a, f, node, 1] * M[1, 1] + M[1, 2]
-                    mark_edge(a, f, x0, y0, x1, y1, images)
+                    mark_edge(a, f, x0, y0, x1, y1, images, spans)
                     x0, y0 = x1, y1
-                for r in range(height):  # markers -> parity, right to left
+                for r in range(height):  # markers -> parity, right to left, over the span of markers only
+                    lo, hi = spans[a, f, r, 0], spans[a, f, r, 1]
                     parity = ti.u8(0)
-                    for k in range(width):
-                        c = width - 1 - k
+                    for k in range(hi - lo):
+                        c = hi - 1 - k
                         parity = parity ^ images[a, f, r, c]
                         images[a, f, r, c] = parity
+                    if parity:  # left of every marker: flipped by all of them (an edge left of the frame has none)
+                        for c in range(lo):
+                            images[a, f, r, c] = ti.u8(1)
 
 
 class Rasteriser:
@@ -80,6 +91,7 @@ class Rasteriser:
         self.outline = upload(np.asarray(outline, np.int32))
         self.M = upload(world_to_pixel(camera))
         self.images = device_array((arms, block_frames, camera.height, camera.width), "uint8")
+        self.spans = device_array((arms, block_frames, camera.height, 2), "int32")
 
     def render(self, history: ti.Ndarray, n_frames: int) -> np.ndarray:
         """(arms, n_frames, H, W) uint8 frames, 1 = arm, of the first n_frames frames of `history`.
@@ -90,5 +102,5 @@ class Rasteriser:
         if history.shape[0] != arms or not 1 <= n_frames <= min(block, history.shape[1]):
             raise ValueError(f"history {tuple(history.shape)} with {n_frames} frames does not fit a "
                              f"rasteriser of {arms} arms x {block} frames")
-        rasterise(history, n_frames, self.outline, self.M, self.images, *task_layout(arms * n_frames))
+        rasterise(history, n_frames, self.outline, self.M, self.images, self.spans, *task_layout(arms * n_frames))
         return host(self.images)[:, :n_frames]
