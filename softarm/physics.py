@@ -18,6 +18,8 @@ from softarm.runtime import device_array, device_vectors, host, task_layout, upl
 
 f64nd = ti.types.ndarray(dtype=ti.f64)
 v2nd = ti.types.ndarray(dtype=ti.types.vector(2, ti.f64))  # one index computation per [x, y] pair
+v3nd = ti.types.ndarray(dtype=ti.types.vector(3, ti.f64))
+i2nd = ti.types.ndarray(dtype=ti.types.vector(2, ti.i32))
 i32nd = ti.types.ndarray(dtype=ti.i32)
 
 
@@ -36,17 +38,18 @@ def drive_at(t: ti.f64, amplitude: ti.f64, freqs: ti.template()) -> ti.math.vec2
 
 @ti.func
 def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.template(), springs: ti.template(),
-                      rest_len: ti.template(), stiffness: ti.template(), damping: ti.template(),
-                      mass: ti.template(), gx: ti.f64, gy: ti.f64):
+                      spring_params: ti.template(), mass: ti.template(), gx: ti.f64, gy: ti.f64):
+    """force[a] = gravity + every spring and damper (MODEL.md, Forces); spring_params[s] = (L0, k, b)."""
     g = ti.Vector([gx, gy], ti.f64)
     for i in range(x.shape[1]):
         force[a, i] = mass[i] * g
     for s in range(springs.shape[0]):
-        i, j = springs[s, 0], springs[s, 1]
+        ends, params = springs[s], spring_params[s]
+        i, j = ends[0], ends[1]
         d = x[a, j] - x[a, i]
         length = ti.sqrt(d[0] * d[0] + d[1] * d[1])
         u = d * (1.0 / length)
-        magnitude = stiffness[s] * (length - rest_len[s]) + damping[s] * (v[a, j] - v[a, i]).dot(u)
+        magnitude = params[1] * (length - params[0]) + params[2] * (v[a, j] - v[a, i]).dot(u)
         f = magnitude * u
         force[a, i] = force[a, i] + f
         force[a, j] = force[a, j] - f
@@ -79,8 +82,8 @@ def first_far_node(a: int, x: ti.template(), rest: ti.template(), free: ti.templ
 
 @ti.kernel
 def advance_frames(x: v2nd, v: v2nd, force: v2nd, history: f64nd, status: i32nd,
-                   rest: v2nd, mass: f64nd, free: i32nd, springs: i32nd, rest_len: f64nd,
-                   stiffness: f64nd, damping: f64nd, amplitude: f64nd, time_offset: f64nd, freqs: f64nd,
+                   rest: v2nd, mass: f64nd, free: i32nd, springs: i2nd, spring_params: v3nd,
+                   amplitude: f64nd, time_offset: f64nd, freqs: f64nd,
                    gx: ti.f64, gy: ti.f64, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
                    frame_dt: ti.f64, blowup_distance: ti.f64, tasks: ti.i32, spacing: ti.i32):
     """Record each arm's state as frames first_frame.. into history[:, :n_frames], stepping between them.
@@ -103,7 +106,7 @@ def advance_frames(x: v2nd, v: v2nd, force: v2nd, history: f64nd, status: i32nd,
                     if status[a, 0] < 0:
                         k = first_frame + f
                         for s in range(substeps):
-                            accumulate_forces(a, x, v, force, springs, rest_len, stiffness, damping, mass, gx, gy)
+                            accumulate_forces(a, x, v, force, springs, spring_params, mass, gx, gy)
                             t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + time_offset[a]
                             substep(a, t, h, x, v, force, rest, mass, free, amplitude, freqs)
                         far = first_far_node(a, x, rest, free, blowup_distance)
@@ -129,8 +132,9 @@ class Simulator:
         self.history = device_array((arms, block_frames, n, 2), "float64")
         self.status = upload(np.full((arms, 2), -1, np.int32))
         self._model = (upload(body.rest, vectors=True), upload(body.masses), upload(body.free.astype(np.int32)),
-                       upload(body.springs.astype(np.int32)), upload(body.rest_lengths), upload(body.stiffness),
-                       upload(body.damping), upload(np.array([d.amplitude for d in drives])),
+                       upload(body.springs.astype(np.int32), vectors=True),
+                       upload(np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1), vectors=True),
+                       upload(np.array([d.amplitude for d in drives])),
                        upload(np.array([d.time_offset for d in drives])),
                        upload(np.array(drives[0].frequencies, np.float64)))
         self._tasks = task_layout(arms)

@@ -50,17 +50,18 @@ def device_array(shape: tuple[int, ...], dtype: str) -> Union[np.ndarray, ti.Nda
     return ti.ndarray({"float64": ti.f64, "int32": ti.i32, "uint8": ti.u8}[dtype], shape)
 
 
-def device_vectors(shape: tuple[int, ...]) -> Union[np.ndarray, ti.Ndarray]:
-    """An array of float64 2-vectors for kernels that take `ndarray(dtype=vec2)`: shape + (2,) in NumPy on the CPU."""
+def device_vectors(shape: tuple[int, ...], size: int = 2, dtype: str = "float64") -> Union[np.ndarray, ti.Ndarray]:
+    """An array of `size`-vectors for kernels that take `ndarray(dtype=vector)`: shape + (size,) in NumPy on the CPU."""
     if on_cpu():
-        return np.zeros((*shape, 2), np.float64)
-    return ti.Vector.ndarray(2, ti.f64, shape)
+        return np.zeros((*shape, size), dtype)
+    return ti.Vector.ndarray(size, {"float64": ti.f64, "int32": ti.i32}[dtype], shape)
 
 
 def upload(array: np.ndarray, vectors: bool = False) -> Union[np.ndarray, ti.Ndarray]:
-    """A device copy of `array` (on the CPU: a contiguous NumPy copy); vectors=True reads the last axis as vec2."""
+    """A device copy of `array` (on the CPU: a contiguous NumPy copy); vectors=True reads the last axis as vectors."""
     array = np.ascontiguousarray(array)
-    out = device_vectors(array.shape[:-1]) if vectors else device_array(array.shape, array.dtype.name)
+    out = (device_vectors(array.shape[:-1], array.shape[-1], array.dtype.name) if vectors
+           else device_array(array.shape, array.dtype.name))
     if isinstance(out, np.ndarray):
         out[...] = array
     else:
