@@ -5,7 +5,7 @@ task draws whole frames, edge by edge: an edge that crosses the centre line of r
 flips every pixel whose centre lies left of it (c + 0.5 < xc), the same test as a ray cast to the
 right from each centre. Rather than flipping those pixels one by one, the edge leaves a marker at
 the last of them and one right-to-left sweep per row, over the span where it has markers, turns the
-markers into parity: O(edges x rows crossed + arm width x rows) per frame, plus clearing the frame.
+markers into parity: O(edges x rows crossed + arm width x rows) per frame, on a frame cleared beforehand.
 """
 
 import numpy as np
@@ -46,6 +46,8 @@ def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, images
               tasks: ti.i32, spacing: ti.i32):
     """images[a, f] = the outline of history[a, f] (node positions, m) seen through M, for f < n_frames.
 
+    `images` must be all zeros on entry (the caller clears it in one go).
+
     Task k (at slot k * spacing, see runtime.task_layout) draws frames k, k + tasks, ... of the
     flattened (arm, frame) list.
     """
@@ -58,8 +60,6 @@ def rasterise(history: f64nd, n_frames: ti.i32, outline: i32nd, M: f64nd, images
             for j in range((items - task + tasks - 1) // tasks):
                 item = task + j * tasks
                 a, f = item // n_frames, item % n_frames
-                for r, c in ti.ndrange(height, width):
-                    images[a, f, r, c] = ti.u8(0)
                 for r in range(height):
                     spans[a, f, r, 0] = width
                     spans[a, f, r, 1] = 0
@@ -102,5 +102,6 @@ class Rasteriser:
         if history.shape[0] != arms or not 1 <= n_frames <= min(block, history.shape[1]):
             raise ValueError(f"history {tuple(history.shape)} with {n_frames} frames does not fit a "
                              f"rasteriser of {arms} arms x {block} frames")
+        self.images.fill(0)  # a memset, far cheaper than clearing pixel by pixel in the kernel
         rasterise(history, n_frames, self.outline, self.M, self.images, self.spans, *task_layout(arms * n_frames))
         return host(self.images)[:, :n_frames]
