@@ -97,9 +97,6 @@ def sim(
                   f"{result.wall_seconds:.1f} s: {result.real_time_factor:.0f}x real time", markup=False)
 
 
-if __name__ == "__main__":
-    sys.exit(app())
-
 
 @app.command()
 def train(
@@ -144,8 +141,11 @@ def train(
                                     stop=lambda: bool(caught))
         result = run_or_exit(run)
     if not result.complete:
-        err.print(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with "
-                  f"softarm train {' '.join(map(str, recordings))} --out {result.checkpoint} --resume", markup=False)
+        if result.checkpoint.exists():
+            err.print(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "
+                      f"{' '.join(map(str, recordings))} --out {result.checkpoint} --resume", markup=False)
+        else:
+            err.print("interrupted before the first epoch finished: no checkpoint was written", markup=False)
         raise typer.Exit(130)
     if not quiet:
         out.print(metrics_table(result.metrics))
@@ -199,7 +199,10 @@ def demo(
     source, ckpt = folder / "seed0.mcap", folder / "model.pt"
     run_or_exit(lambda: check_train_outputs(ckpt, folder / "train.rrd", resume=False, force=force))
     with LazyProgress(err, "simulating", cfg.n_frames, "frames") as bar:
-        run_or_exit(lambda: simulate(cfg, source, force=force, progress=bar.update))
+        simulated = run_or_exit(lambda: simulate(cfg, source, force=force, progress=bar.update))
+    if not simulated.complete:
+        err.print(f"interrupted: kept {simulated.frames} frames in {source}; the demo stops here", markup=False)
+        raise typer.Exit(130)
     total = cfg.train.epochs_ae + cfg.train.epochs_lstm
     with LazyProgress(err, "training", total, "epochs") as bar:
         def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
@@ -219,3 +222,7 @@ def demo(
                         *[(f"replay {k}", v) for k, v in outputs.items()]]:
         out.print(f"{label:>15}: {path}", markup=False)
     out.print(f"open the timelines with: rerun {outputs['rrd']}", markup=False)
+
+
+if __name__ == "__main__":
+    sys.exit(app())

@@ -16,9 +16,6 @@ from softarm.config import TrainConfig
 from softarm.errors import RecordingError
 from softarm.recording import read_recording
 
-SEGMENTS = ("train", "test", "imagine")
-
-
 @dataclass(frozen=True)
 class RunData:
     """One recording's learning arrays."""
@@ -28,7 +25,6 @@ class RunData:
     stretch: np.ndarray         # (T, P) float32, m
     times: np.ndarray           # (T,) s
     bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
-    model: dict                 # the recording's model metadata
 
     def segment(self, name: str) -> tuple[int, int]:
         b0, b1 = self.bounds
@@ -99,11 +95,22 @@ def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig) -> Datas
         rec = read_recording(path, nodes=False)
         seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=rec.frames,
                         stretch=rec.stretch.astype(np.float32), times=rec.times,
-                        bounds=split_bounds(len(rec.times), train), model=rec.model)
+                        bounds=split_bounds(len(rec.times), train))
         if sequences:
             check_compatible(seq, sequences[0].frames.shape[1:], sequences[0].stretch.shape[1], sequences[0].name)
+        check_segments(seq, train)
         sequences.append(seq)
     return Dataset(sequences)
+
+
+def check_segments(seq: RunData, train: TrainConfig) -> None:
+    """Refuse before training a recording whose test or imagination segment holds no stretch window."""
+    needed = train.history + (0 if train.include_current else 1)
+    for name in ("test", "imagine"):
+        start, end = seq.segment(name)
+        if end - start < needed:
+            raise RecordingError(f"{seq.name}: its {name} segment has {end - start} frames, fewer than the "
+                                 f"{needed} a history of {train.history} needs; record longer")
 
 
 def check_compatible(seq: RunData, image_shape: tuple[int, int], sensor_count: int, other: str) -> None:

@@ -6,6 +6,7 @@ are normalised to zero mean and unit variance with training statistics.
 """
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 import torch
@@ -19,11 +20,15 @@ class Scaler:
     std: np.ndarray    # (F,) over all features, float64 (1 where a feature is constant)
 
     @classmethod
-    def fit(cls, data: np.ndarray, min_relative_std: float = 0.0) -> "Scaler":
-        """Statistics of data (M, F); features with std below min_relative_std x the largest std are dropped."""
+    def fit(cls, data: np.ndarray, min_relative_std: Optional[float] = None) -> "Scaler":
+        """Statistics of data (M, F); features with std below min_relative_std x the largest std are
+        dropped (None keeps every feature, e.g. every stretch sensor the LSTM is built for)."""
         data = data.astype(np.float64)
         mean, std = data.mean(axis=0), data.std(axis=0)
-        keep = std > min_relative_std * std.max() if std.max() > 0 else np.zeros(len(std), bool)
+        if min_relative_std is None:
+            keep = np.ones(len(std), bool)
+        else:
+            keep = std > min_relative_std * std.max() if std.max() > 0 else np.zeros(len(std), bool)
         return cls(keep=keep, mean=mean, std=np.where(std > 0, std, 1.0))
 
     @property

@@ -15,7 +15,7 @@ import orjson
 from softarm.dataset import fingerprint
 from softarm.mcap_file import McapFile
 from softarm.recording_format import json_schema
-from softarm.replay import Replay, probability_bytes
+from softarm.replay import Replay
 
 IMAGE = "/imagination/image"
 IOU = "/imagination/iou"
@@ -32,7 +32,7 @@ def write_imagination(result: Replay, path: Union[str, Path]) -> Path:
     mcap = McapFile(Path(path), (IMAGE,), {IOU: IOU_SCHEMA})
     try:
         height, width = result.imagined.shape[1:]
-        pixels = probability_bytes(result.imagined).reshape(len(result.imagined), -1)
+        pixels = result.imagined_bytes.reshape(len(result.imagined), -1)
         for k in np.flatnonzero(result.predicted):
             ns = int(round(result.times[k] * 1e9))
             mcap.add_image(IMAGE, ns, pixels[k].tobytes(), height, width, "camera")

@@ -78,11 +78,6 @@ class Imaginer:
         x = torch.from_numpy(frames)
         return torch.cat([self.autoencoder.encode(x[i:i + BATCH]) for i in range(0, len(x), BATCH)]).numpy()
 
-    @torch.inference_mode()
-    def reconstruct(self, frames: np.ndarray) -> np.ndarray:
-        """Pixel probabilities of the autoencoder's own reconstruction: the ceiling of any imagination."""
-        return self.decode(self.latent_scaler.forward(self.encode(frames)))
-
     def imagine(self, stretch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(frame indices, probabilities (M, H, W)) imagined from a whole stretch series (T, P)."""
         windows, targets = self.windows(stretch)

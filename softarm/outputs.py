@@ -9,7 +9,7 @@ def check_outputs(paths: list[Path], force: bool) -> None:
     """Refuse before any work: an existing file (unless force), a parent that is a file or is read-only."""
     for path in paths:
         if path.is_dir():
-            raise OutputError(f"output {path} is a folder; give a file name ending in .mcap")
+            raise OutputError(f"output {path} is a folder; give a file name")
         if path.exists() and not force:
             raise OutputError(f"output {path} already exists; pass --force to overwrite it")
         parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))

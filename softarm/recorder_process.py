@@ -4,10 +4,12 @@ Encoding (protobuf, JSON) and writing take about as long as the physics of a def
 them in the simulating process would make recording the slowest stage. The child owns one
 `RecordingWriter` per arm and takes whole blocks through a bounded queue (at most two blocks in
 flight, so a slow disk slows the simulation instead of filling memory). It ignores Ctrl-C: the
-parent decides, then asks it to close (keeping what was recorded) or to discard.
+parent decides, then asks it to close (keeping what was recorded) or to discard; a child whose
+parent died discards its files by itself.
 """
 
 import multiprocessing
+import os
 import queue
 import signal
 from pathlib import Path
@@ -21,16 +23,21 @@ from softarm.recorder import RecordingWriter
 IN_FLIGHT = 2
 
 
-def _serve(specs: list[tuple[Path, dict[str, Any], float]], inbox: Any, outbox: Any) -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+def _serve(specs: list[tuple[Path, dict[str, Any], float]], inbox: Any, outbox: Any, parent: int) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole process group; the parent decides
     writers: list[RecordingWriter] = []
     try:
         for path, model, frame_dt in specs:
             writers.append(RecordingWriter(path, model, frame_dt))
         outbox.put(("ready", None))
         while True:
-            message = inbox.get()
+            try:
+                message = inbox.get(timeout=1.0)
+            except queue.Empty:
+                if os.getppid() != parent:  # the parent died without a word: leave nothing half written
+                    message = ("discard",)
+                else:
+                    continue
             if message[0] == "write":
                 images, readings, positions, displacements = message[1:]
                 for arm, writer in enumerate(writers):
@@ -56,42 +63,63 @@ class RecorderProcess:
 
     def __init__(self, specs: list[tuple[Path, dict[str, Any], float]]):
         context = multiprocessing.get_context("fork")  # no re-import: the child starts in milliseconds
+        self._parts = [Path(path).with_name(Path(path).name + ".part") for path, _, _ in specs]
         self._inbox = context.Queue(maxsize=IN_FLIGHT)
         self._outbox = context.Queue()
-        self._process = context.Process(target=_serve, args=(specs, self._inbox, self._outbox), daemon=True)
+        self._process = context.Process(target=_serve, args=(specs, self._inbox, self._outbox, os.getpid()),
+                                        daemon=True)
         self._process.start()
         self._expect("ready")
 
     def write(self, images: np.ndarray, readings: np.ndarray, positions: np.ndarray, displacements: np.ndarray) -> None:
         """Queue one block of every arm. The arrays are copied now: the caller reuses its buffers."""
-        block = ("write", images.copy(), readings.copy(), positions.copy(), displacements.copy())
-        while True:
-            try:
-                self._inbox.put(block, timeout=0.5)
-                return
-            except queue.Full:
-                self._raise_if_failed()
+        self._put(("write", images.copy(), readings.copy(), positions.copy(), displacements.copy()))
 
     def close(self, complete: bool) -> None:
         """Finish every file (complete or not) and wait until they are renamed into place."""
-        self._inbox.put(("close", complete))
+        self._put(("close", complete))
         self._expect("closed")
 
     def discard(self) -> None:
-        """Remove every unfinished file and wait until they are gone."""
-        if self._process.is_alive():
-            self._inbox.put(("discard",))
-            self._process.join(timeout=60)
+        """Remove every unfinished file and wait until they are gone (ending the child if it hangs)."""
+        try:
+            if self._process.is_alive():
+                self._put(("discard",))
+                self._process.join(timeout=30)
+        except OutputError:
+            pass
+        finally:
+            if self._process.is_alive():
+                self._process.kill()
+                self._process.join()
+            for part in self._parts:
+                part.unlink(missing_ok=True)
+
+    def _put(self, message: tuple) -> None:
+        while True:
+            try:
+                self._inbox.put(message, timeout=0.5)
+                return
+            except queue.Full:
+                self._raise_if_failed()
 
     def _raise_if_failed(self) -> None:
         try:
             kind, detail = self._outbox.get_nowait()
         except queue.Empty:
             if not self._process.is_alive():
-                raise OutputError("the recording process stopped unexpectedly") from None
+                self._raise_dead()
             return
         if kind == "error":
             raise OutputError(f"recording failed: {detail}")
+
+    def _raise_dead(self) -> None:
+        """The child is gone: report its last word if it left one."""
+        try:
+            kind, detail = self._outbox.get(timeout=0.5)
+        except queue.Empty:
+            raise OutputError("the recording process stopped unexpectedly") from None
+        raise OutputError(f"recording failed: {detail}" if kind == "error" else "the recording process stopped early")
 
     def _expect(self, kind: str) -> None:
         while True:
@@ -99,12 +127,12 @@ class RecorderProcess:
                 got, detail = self._outbox.get(timeout=0.5)
             except queue.Empty:
                 if not self._process.is_alive():
-                    raise OutputError("the recording process stopped unexpectedly") from None
+                    self._raise_dead()
                 continue
             if got == "error":
-                self._process.join(timeout=60)
+                self._process.join(timeout=30)
                 raise OutputError(f"recording failed: {detail}")
             if got == kind:
                 if kind != "ready":  # closed: the child has finished its work
-                    self._process.join(timeout=60)
+                    self._process.join(timeout=30)
                 return

@@ -6,6 +6,7 @@ view of camera blackouts, metrics); `softarm.viz`, `softarm.imagination_recordin
 """
 
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Optional, Sequence, Union
 
@@ -17,7 +18,7 @@ from softarm.errors import BlindRangeError, RecordingError
 from softarm.filmstrip import filmstrip
 from softarm.imagine import Imaginer
 from softarm.metrics import frame_scores, summarise
-from softarm.recording import Recording, read_recording
+from softarm.recording import Recording, read_model, read_recording
 
 
 @dataclass(frozen=True)
@@ -35,6 +36,11 @@ class Replay:
     @property
     def times(self) -> np.ndarray:
         return self.recording.times
+
+    @cached_property
+    def imagined_bytes(self) -> np.ndarray:
+        """The imagined frames as grayscale bytes, computed once for every writer that needs them."""
+        return probability_bytes(self.imagined)
 
 
 def parse_blind(ranges: Sequence[str]) -> list[tuple[float, float]]:
@@ -64,14 +70,15 @@ def blind_mask(times: np.ndarray, ranges: Sequence[tuple[float, float]]) -> np.n
     return mask
 
 
-def check_fits(state: dict[str, Any], recording: Recording, checkpoint: Path) -> None:
+def check_fits(state: dict[str, Any], model: dict[str, Any], recording: Path, checkpoint: Path) -> None:
     """Refuse a recording whose camera or sensors differ from those the checkpoint was trained on."""
+    shape = (model["camera"]["height"], model["camera"]["width"])
     trained_shape, sensors = tuple(state["image_shape"]), state["sensor_count"]
-    if recording.image_shape != trained_shape:
-        raise RecordingError(f"{recording.path} has {recording.image_shape[0]}x{recording.image_shape[1]} images but "
-                             f"{checkpoint} was trained on {trained_shape[0]}x{trained_shape[1]}")
-    if recording.sensor_count != sensors:
-        raise RecordingError(f"{recording.path} has {recording.sensor_count} stretch sensors but {checkpoint} "
+    if shape != trained_shape:
+        raise RecordingError(f"{recording} has {shape[0]}x{shape[1]} images but {checkpoint} was trained on "
+                             f"{trained_shape[0]}x{trained_shape[1]}")
+    if len(model["sensors"]) != sensors:
+        raise RecordingError(f"{recording} has {len(model['sensors'])} stretch sensors but {checkpoint} "
                              f"was trained with {sensors}")
 
 
@@ -83,8 +90,8 @@ def replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     """
     checkpoint = Path(checkpoint)
     state = load_checkpoint(checkpoint)
+    check_fits(state, read_model(recording), Path(recording), checkpoint)  # before reading every frame
     rec = read_recording(recording, nodes=nodes)
-    check_fits(state, rec, checkpoint)
     mask = blind_mask(rec.times, blind)
     imaginer = Imaginer.from_checkpoint(state)
     targets, probs = imaginer.imagine(rec.stretch)

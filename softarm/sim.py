@@ -97,10 +97,10 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     """
     start = time.perf_counter()
     laps = Laps()
+    body = build_body(config)  # config errors first: a refused run creates no folder
+    check_step(config, max_stable_substep(body))
     paths = output_paths(config, out)
     check_outputs(paths, force)
-    body = build_body(config)
-    check_step(config, max_stable_substep(body))
     init_taichi(arch)
 
     seeds = [config.run.seed + i for i in range(config.run.arms)]
@@ -137,7 +137,7 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
                 if progress:
                     progress(done)
             complete = not caught
-        recorder.close(complete)
+            recorder.close(complete)  # inside: a Ctrl-C during the final flush must not discard the files
         laps.lap("recording (rest, after the physics)")
     except BaseException:
         recorder.discard()

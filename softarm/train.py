@@ -64,6 +64,15 @@ def check_train_outputs(checkpoint: Path, rrd: Optional[Path], resume: bool, for
     check_outputs([p for p in (checkpoint, rrd) if p is not None and not (resume and p == checkpoint)], force=True)
 
 
+def finite_or_null(value: Any) -> Any:
+    """NaN (e.g. a tip error where every frame is empty) as null: strict JSON readers reject NaN."""
+    if isinstance(value, dict):
+        return {k: finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [finite_or_null(v) for v in value]
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
 def metrics_path_for(checkpoint: Path) -> Path:
     return checkpoint.with_suffix(".metrics.json")
 
@@ -337,6 +346,6 @@ def train(paths: Sequence[Union[str, Path]], config: Config, out: Union[str, Pat
         trainer._save(metrics)
         metrics_file = metrics_path_for(trainer.out)
         part = metrics_file.with_name(metrics_file.name + ".part")
-        part.write_text(json.dumps(metrics, indent=1))
+        part.write_text(json.dumps(finite_or_null(metrics), indent=1, allow_nan=False))
         part.replace(metrics_file)
     return TrainResult(trainer.out, metrics_file, metrics, complete, time.perf_counter() - start)

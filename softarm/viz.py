@@ -156,7 +156,7 @@ def log_replay(result: "Replay", rrd: Path | None = None, spawn: bool = False) -
         times = rr.TimeColumn("sim_time", duration=result.times)
         truth = result.recording.frames
         _image_columns(rec, "camera/image", times, truth * np.uint8(255))
-        _image_columns(rec, "imagined/image", times, probability_bytes(result.imagined))
+        _image_columns(rec, "imagined/image", times, result.imagined_bytes)
         _image_columns(rec, "difference/image", times, difference_colours(truth, result.imagined))
         _image_columns(rec, "fused/image", times, probability_bytes(result.fused))
         nodes = result.nodes_px
@@ -174,8 +174,12 @@ def log_replay(result: "Replay", rrd: Path | None = None, spawn: bool = False) -
         rec.send_columns("signals/blind", indexes=[times], columns=rr.Scalars.columns(
             scalars=result.blind.astype(np.float64)))
         rec.flush()
-    finally:
+    except BaseException:
         rec.disconnect()
+        if part is not None:
+            part.unlink(missing_ok=True)
+        raise
+    rec.disconnect()
     if part is not None and part.exists():
         part.replace(rrd)
     return Path(rrd) if rrd is not None else None
