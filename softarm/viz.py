@@ -18,7 +18,7 @@ import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
-from softarm.replay import difference_colours, probability_bytes
+from softarm.replay import DIFFERENCE_CLASSES, DIFFERENCE_COLOURS, difference_codes, probability_bytes
 
 if TYPE_CHECKING:
     from softarm.replay import Replay
@@ -157,7 +157,13 @@ def log_replay(result: "Replay", rrd: Path | None = None, spawn: bool = False) -
         truth = result.recording.frames
         _image_columns(rec, "camera/image", times, truth * np.uint8(255))
         _image_columns(rec, "imagined/image", times, result.imagined_bytes)
-        _image_columns(rec, "difference/image", times, difference_colours(truth, result.imagined))
+        rec.log("difference", rr.AnnotationContext([(i, name, tuple(int(c) for c in colour)) for i, (name, colour)
+                                                    in enumerate(zip(DIFFERENCE_CLASSES, DIFFERENCE_COLOURS))]),
+                static=True)
+        codes = difference_codes(truth, result.imagined)  # one byte a pixel; the viewer colours the classes
+        fmt = rr.components.ImageFormat(width=codes.shape[2], height=codes.shape[1], channel_datatype="U8")
+        rec.send_columns("difference/image", indexes=[times], columns=rr.SegmentationImage.columns(
+            buffer=codes.reshape(len(codes), -1), format=[fmt] * len(codes)))
         _image_columns(rec, "fused/image", times, probability_bytes(result.fused))
         nodes = result.nodes_px
         if nodes is not None:

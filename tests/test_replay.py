@@ -99,3 +99,11 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(recordings, tmp_path):
     (tmp_path / "fake.pt").write_bytes(b"not a checkpoint at all")
     result = softarm("replay", "fake.pt", str(recordings / "s0.mcap"), cwd=tmp_path)
     assert_one_line_error(result, "fake.pt", "not a softarm checkpoint")
+
+
+def test_fused_scores_equal_scoring_the_fused_frames_directly(recordings, tiny_checkpoint):
+    from softarm.metrics import frame_scores, summarise
+    result = replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", [(1.0, 2.5)])
+    direct = summarise(frame_scores(result.fused.astype(np.float64), result.recording.frames, 400.0))
+    for key, value in result.metrics["fused"].items():
+        assert value == pytest.approx(direct[key], rel=1e-6, abs=1e-9), key
