@@ -14,16 +14,16 @@ from typing import Any, Union
 import torch
 
 from softarm.errors import CheckpointError
+from softarm.outputs import atomic_path
 
 FORMAT = "softarm-checkpoint/1"
 
 
 def save_checkpoint(path: Union[str, Path], state: dict[str, Any]) -> Path:
-    path = Path(path)
-    part = path.with_name(path.name + ".part")
-    torch.save({"format": FORMAT, **state}, part)
-    part.replace(path)
-    return path
+    """Write atomically: an interruption leaves the previous epoch's checkpoint, never half of a new one."""
+    with atomic_path(Path(path)) as part:
+        torch.save({"format": FORMAT, **state}, part)
+    return Path(path)
 
 
 def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:

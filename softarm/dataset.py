@@ -8,7 +8,7 @@ Stretch windows never straddle a split, so no test target is predicted from trai
 import hashlib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence, Union
+from typing import Optional, Sequence, Union
 
 import numpy as np
 
@@ -49,28 +49,37 @@ class Dataset:
         return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
     def windows(self, segment: str, history: int, include_current: bool) -> tuple[np.ndarray, np.ndarray]:
-        """Stretch windows (M, history, P) and, per window, the (sequence, frame) it predicts (M, 2).
-
-        The window for frame k is samples k-history .. k-1, or k-history+1 .. k with include_current;
-        every sample lies inside the segment.
-        """
+        """Stretch windows (M, history, P) of a segment, all recordings, and the (recording, frame) each predicts (M, 2)."""
         inputs, targets = [], []
-        lag = 0 if include_current else 1
         for n, seq in enumerate(self.sequences):
             start, end = seq.segment(segment)
-            first = start + history - 1 + lag
-            for k in range(first, end):
-                inputs.append(seq.stretch[k - lag - history + 1:k - lag + 1])
-                targets.append((n, k))
-        if not inputs:
+            w, k = stretch_windows(seq.stretch, history, include_current, start, end)
+            inputs.append(w)
+            targets.append(np.stack([np.full(len(k), n), k], axis=1))
+        if not sum(map(len, inputs)):
             raise RecordingError(f"the {segment} segment is shorter than a history of {history} samples")
-        return np.stack(inputs), np.array(targets)
+        return np.concatenate(inputs), np.concatenate(targets)
 
     def target_frames(self, targets: np.ndarray) -> np.ndarray:
         return np.stack([self.sequences[n].frames[k] for n, k in targets])
 
     def fingerprints(self) -> list[dict]:
         return [{"name": s.name, "sha256": s.fingerprint, "frames": len(s.times)} for s in self.sequences]
+
+
+def stretch_windows(stretch: np.ndarray, history: int, include_current: bool, start: int = 0,
+                    end: Optional[int] = None) -> tuple[np.ndarray, np.ndarray]:
+    """The windows of stretch[start:end] and the frame index each predicts.
+
+    The window for frame k is samples k-history .. k-1 (the paper's set-up), or k-history+1 .. k with
+    include_current; every sample lies in [start, end), so no window straddles a split.
+    """
+    end = len(stretch) if end is None else end
+    lag = 0 if include_current else 1
+    targets = np.arange(start + history - 1 + lag, end)
+    first = targets - lag - history + 1
+    windows = stretch[first[:, None] + np.arange(history)] if len(targets) else np.zeros((0, history, stretch.shape[1]))
+    return windows, targets
 
 
 def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:

@@ -6,6 +6,8 @@ from typing import Sequence, Union
 import numpy as np
 from PIL import Image, ImageDraw
 
+from softarm.outputs import atomic_path
+
 GAP = 2          # pixels between tiles, in image pixels before scaling
 LABEL_WIDTH = 90  # pixels for the row labels, after scaling
 HEADER = 14      # pixels for the time header, after scaling
@@ -35,8 +37,6 @@ def filmstrip(rows: Sequence[np.ndarray], labels: Sequence[str], times: Sequence
 
 def save_png(image: Image.Image, path: Union[str, Path]) -> Path:
     """Write atomically: the PNG appears whole or not at all."""
-    path = Path(path)
-    part = path.with_name(path.name + ".part")
-    image.save(part, format="PNG")
-    part.replace(path)
-    return path
+    with atomic_path(Path(path)) as part:
+        image.save(part, format="PNG")
+    return Path(path)

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import torch
 
+from softarm.dataset import stretch_windows
 from softarm.errors import CheckpointError, RecordingError
 from softarm.features import Scaler
 from softarm.models import Autoencoder, StretchToLatent
@@ -46,19 +47,12 @@ class Imaginer:
         ae.to(memory_format=torch.channels_last)  # ~1.3x faster convolutions when decoding on the CPU
         return cls(ae, lstm, latent_scaler, Scaler.from_state(state["stretch_scaler"]), t["history"], t["include_current"])
 
-    @property
-    def lag(self) -> int:
-        """Samples between the window's last sample and the predicted frame (1, or 0 with include_current)."""
-        return 0 if self.include_current else 1
-
     def windows(self, stretch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every window of a stretch series (T, P) and the frame index each one predicts."""
-        first = self.history - 1 + self.lag
-        targets = np.arange(first, len(stretch))
+        windows, targets = stretch_windows(stretch, self.history, self.include_current)
         if len(targets) == 0:
-            raise RecordingError(f"{len(stretch)} samples are fewer than a history of {self.history} + {self.lag}")
-        starts = targets - self.lag - self.history + 1
-        return np.stack([stretch[s:s + self.history] for s in starts]), targets
+            raise RecordingError(f"{len(stretch)} stretch samples are too few for a history of {self.history}")
+        return windows, targets
 
     @torch.inference_mode()
     def latents(self, windows: np.ndarray) -> np.ndarray:

@@ -1,6 +1,8 @@
 """Output paths are checked before any work starts, so a refused run costs nothing and leaves nothing."""
 
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Iterator
 
 from softarm.errors import OutputError
 
@@ -25,3 +27,16 @@ def check_outputs(paths: list[Path], force: bool) -> None:
             probe.unlink()
         except OSError as e:
             raise OutputError(f"cannot write {path}: {e.strerror}") from None
+
+
+@contextmanager
+def atomic_path(path: Path) -> Iterator[Path]:
+    """Write to the yielded `<path>.part`; it becomes `path` only when the block succeeds, else it is removed."""
+    path = Path(path)
+    part = path.with_name(path.name + ".part")
+    try:
+        yield part
+    except BaseException:
+        part.unlink(missing_ok=True)
+        raise
+    part.replace(path)

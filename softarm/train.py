@@ -26,7 +26,7 @@ from softarm.features import Scaler
 from softarm.imagine import Imaginer
 from softarm.metrics import image_scores, ridge_fit, ridge_predict
 from softarm.models import Autoencoder, StretchToLatent
-from softarm.outputs import check_outputs
+from softarm.outputs import atomic_path, check_outputs
 
 CLIP_FRAMES = 100  # the held-out clip shown each epoch: the first second of the imagination segment
 
@@ -345,7 +345,6 @@ def train(paths: Sequence[Union[str, Path]], config: Config, out: Union[str, Pat
         metrics = trainer.evaluate()
         trainer._save(metrics)
         metrics_file = metrics_path_for(trainer.out)
-        part = metrics_file.with_name(metrics_file.name + ".part")
-        part.write_text(json.dumps(finite_or_null(metrics), indent=1, allow_nan=False))
-        part.replace(metrics_file)
+        with atomic_path(metrics_file) as part:
+            part.write_text(json.dumps(finite_or_null(metrics), indent=1, allow_nan=False))
     return TrainResult(trainer.out, metrics_file, metrics, complete, time.perf_counter() - start)
