@@ -3,14 +3,14 @@
 import sys
 import warnings
 from pathlib import Path
-from typing import Annotated, Callable, Optional, TypeVar
+from typing import TYPE_CHECKING, Annotated, Callable, Optional, TypeVar
 
 import typer
 from rich.console import Console
 
 from cli.progress import LazyProgress
 from softarm import __version__
-from softarm.config import ARCHS, DEFAULT_CONFIG_TEXT, load_config
+from softarm.config import ARCHS, DEFAULT_CONFIG_TEXT, Config, load_config
 from softarm.errors import SoftarmError
 
 app = typer.Typer(help="softarm: a simulated soft arm that learns to picture its own body from its stretch sensors.",
@@ -18,6 +18,9 @@ app = typer.Typer(help="softarm: a simulated soft arm that learns to picture its
                   context_settings={"help_option_names": ["-h", "--help"]})
 err = Console(stderr=True, highlight=False, soft_wrap=True)
 out = Console(highlight=False, soft_wrap=True)
+if TYPE_CHECKING:
+    from softarm.train import TrainResult  # imports torch: only for the commands that train
+
 T = TypeVar("T")
 
 
@@ -98,6 +101,26 @@ def sim(
 
 
 
+def train_with_progress(recordings: list[Path], cfg: Config, out_file: Path, resume: bool, spawn: bool,
+                        rrd: Optional[Path], quiet: bool) -> "TrainResult":
+    """Train with a progress bar over both networks' epochs, the live view, and Ctrl-C as a stop request."""
+    from softarm.interrupt import stop_on_signal
+    from softarm.train import train as run_training
+
+    total = cfg.train.epochs_ae + cfg.train.epochs_lstm
+    with LazyProgress(err, "training", total, "epochs", quiet=quiet) as bar:
+        def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
+            bar.update(done + (0 if phase == "ae" else cfg.train.epochs_ae),
+                       **{k: f"{k} {v:.4f}" for k, v in losses.items()})
+
+        def run() -> "TrainResult":
+            from softarm.viz import TrainingView
+            with TrainingView(spawn=spawn, rrd=rrd) as view, stop_on_signal() as caught:
+                return run_training(recordings, cfg, out_file, resume=resume, observer=view, progress=progress,
+                                    stop=lambda: bool(caught))
+        return run_or_exit(run)
+
+
 @app.command()
 def train(
     recordings: Annotated[list[Path], typer.Argument(help="Recordings (.mcap) to learn from; each is split by time.")],
@@ -120,26 +143,14 @@ def train(
     Example: softarm train recordings/seed0.mcap --rrd recordings/train.rrd
     """
     from cli.tables import metrics_table
-    from softarm.interrupt import stop_on_signal
-    from softarm.train import check_train_outputs, train as run_training
+    from softarm.train import check_train_outputs
 
     overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.history": history,
                  "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
     out_file = out_path or Path("recordings") / f"{recordings[0].stem}.pt"
     run_or_exit(lambda: check_train_outputs(out_file, rrd, resume=resume, force=force))
-    total = cfg.train.epochs_ae + cfg.train.epochs_lstm
-    with LazyProgress(err, "training", total, "epochs", quiet=quiet) as bar:
-        def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
-            offset = 0 if phase == "ae" else cfg.train.epochs_ae
-            bar.update(offset + done, **{k: f"{k} {v:.4f}" for k, v in losses.items()})
-
-        def run() -> object:
-            from softarm.viz import TrainingView
-            with TrainingView(spawn=spawn, rrd=rrd) as view, stop_on_signal() as caught:
-                return run_training(recordings, cfg, out_file, resume=resume, observer=view, progress=progress,
-                                    stop=lambda: bool(caught))
-        result = run_or_exit(run)
+    result = train_with_progress(recordings, cfg, out_file, resume=resume, spawn=spawn, rrd=rrd, quiet=quiet)
     if not result.complete:
         if result.checkpoint.exists():
             err.print(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "
@@ -193,7 +204,7 @@ def demo(
     from cli.tables import metrics_table, replay_table
     from softarm.replay_outputs import write_replay
     from softarm.sim import simulate
-    from softarm.train import check_train_outputs, train as run_training
+    from softarm.train import check_train_outputs
 
     cfg = load_config()
     source, ckpt = folder / "seed0.mcap", folder / "model.pt"
@@ -203,17 +214,10 @@ def demo(
     if not simulated.complete:
         err.print(f"interrupted: kept {simulated.frames} frames in {source}; the demo stops here", markup=False)
         raise typer.Exit(130)
-    total = cfg.train.epochs_ae + cfg.train.epochs_lstm
-    with LazyProgress(err, "training", total, "epochs") as bar:
-        def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
-            bar.update(done + (0 if phase == "ae" else cfg.train.epochs_ae),
-                       **{k: f"{k} {v:.4f}" for k, v in losses.items()})
-
-        def run() -> object:
-            from softarm.viz import TrainingView
-            with TrainingView(rrd=folder / "train.rrd") as view:
-                return run_training([source], cfg, ckpt, observer=view, progress=progress)
-        trained = run_or_exit(run)
+    trained = train_with_progress([source], cfg, ckpt, resume=False, spawn=False, rrd=folder / "train.rrd", quiet=False)
+    if not trained.complete:
+        err.print(f"interrupted: {ckpt} holds the last finished epoch; the demo stops here", markup=False)
+        raise typer.Exit(130)
     out.print(metrics_table(trained.metrics))
     outputs = {"rrd": folder / "replay.rrd", "mcap": folder / "imagination.mcap", "png": folder / "filmstrip.png"}
     result = run_or_exit(lambda: write_replay(ckpt, source, ["95:100"], force=True, **outputs))
