@@ -104,6 +104,7 @@ class Trainer:
         self.lstm: Optional[StretchToLatent] = None
         self.lstm_opt: Optional[torch.optim.Optimizer] = None
         self.latent_scaler = self.stretch_scaler = None
+        self._encoded: Optional[list[np.ndarray]] = None  # per-recording latent codes, once the AE is trained
         self.phase, self.epoch = "ae", 0
         self.losses: dict[str, list[float]] = {"ae_train": [], "ae_test": [], "lstm_train": [], "lstm_val": []}
         if previous is not None:
@@ -207,13 +208,22 @@ class Trainer:
             total += F.binary_cross_entropy_with_logits(self.ae(x), x, reduction="sum").item()
         return total / frames.numel()
 
+    def _codes(self, targets: np.ndarray) -> np.ndarray:
+        """Raw latent codes of the (recording, frame) targets, from each recording encoded once.
+
+        Encoding every frame once (16 numbers a frame) replaces stacking copies of the target frames
+        for every use: the LSTM's pairs, the scalers, the ridge baseline and the metrics.
+        """
+        if self._encoded is None:
+            self.ae.eval()
+            self._encoded = [self._imaginer().encode(seq.frames) for seq in self.data.sequences]
+        return np.concatenate([self._encoded[n][targets[targets[:, 0] == n, 1]] for n in range(len(self._encoded))])
+
     def _fit_scalers(self) -> None:
-        """Encode the training frames; drop constant latent features; normalise with training statistics."""
-        self.ae.eval()
-        with torch.no_grad():
-            codes = torch.cat([self.ae.encode(torch.from_numpy(c)) for c in np.array_split(
-                self.data.frames("train"), max(1, len(self.data.frames("train")) // 512))]).numpy()
-        self.latent_scaler = Scaler.fit(codes, self.t.min_feature_std)
+        """Drop latent features constant over the training frames; normalise with training statistics."""
+        train = np.concatenate([np.stack([np.full(b - a, n), np.arange(a, b)], 1)
+                                for n, (a, b) in enumerate(s.segment("train") for s in self.data.sequences)])
+        self.latent_scaler = Scaler.fit(self._codes(train), self.t.min_feature_std)
         train_stretch = np.concatenate([s.stretch[slice(*s.segment("train"))] for s in self.data.sequences])
         self.stretch_scaler = Scaler.fit(train_stretch)
 
@@ -226,8 +236,7 @@ class Trainer:
 
     def _lstm_pairs(self, segment: str) -> tuple[torch.Tensor, torch.Tensor]:
         windows, targets = self.data.windows(segment, self.t.history, self.t.include_current)
-        imaginer = self._imaginer()
-        latents = self.latent_scaler.forward(imaginer.encode(self.data.target_frames(targets)))
+        latents = self.latent_scaler.forward(self._codes(targets))
         x = self.stretch_scaler.forward(windows).astype(np.float32)
         return torch.from_numpy(x), torch.from_numpy(latents.astype(np.float32))
 
@@ -270,14 +279,14 @@ class Trainer:
                                    for c in np.array_split(test_frames, max(1, len(test_frames) // 512))]).numpy()
         windows, targets = self.data.windows("imagine", self.t.history, self.t.include_current)
         truth = self.data.target_frames(targets)
-        true_latent = self.latent_scaler.forward(imaginer.encode(truth))
+        true_latent = self.latent_scaler.forward(self._codes(targets))
         predicted = imaginer.latents(windows)
         train_windows, train_targets = self.data.windows("train", self.t.history, self.t.include_current)
-        train_latent = self.latent_scaler.forward(imaginer.encode(self.data.target_frames(train_targets)))
+        train_latent = self.latent_scaler.forward(self._codes(train_targets))
         ridge = ridge_fit(self.stretch_scaler.forward(train_windows), train_latent)
         mean_frame = self.data.frames("train").mean(axis=0)
         val_windows, val_targets = self.data.windows("test", self.t.history, self.t.include_current)
-        val_latent = self.latent_scaler.forward(imaginer.encode(self.data.target_frames(val_targets)))
+        val_latent = self.latent_scaler.forward(self._codes(val_targets))
         return {
             "autoencoder_test": image_scores(test_prob, test_frames, ppm),
             "lstm_latent_mse": {

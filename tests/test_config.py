@@ -49,3 +49,12 @@ def test_bad_values_name_the_key_and_what_is_allowed(overrides, words):
         load_config(overrides=overrides)
     for word in words:
         assert word in str(info.value)
+
+
+def test_softarm_config_prints_a_file_that_loads_as_the_defaults(tmp_path):
+    from cli_helpers import softarm
+
+    result = softarm("config", cwd=tmp_path)
+    assert result.returncode == 0
+    (tmp_path / "c.toml").write_text(result.stdout)
+    assert load_config(tmp_path / "c.toml") == load_config()
