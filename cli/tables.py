@@ -9,11 +9,13 @@ ROWS = {"lstm": "LSTM imagination", "ridge": "ridge baseline", "mean_frame": "me
 
 
 def scores_row(table: Table, label: str, scores: dict[str, float]) -> None:
+    """One row of BCE, IoU, Dice and tip error."""
     table.add_row(label, f"{scores['bce']:.4f}", f"{scores['iou']:.3f}", f"{scores['dice']:.3f}",
                   f"{scores['tip_mm']:.1f}")
 
 
 def metrics_table(metrics: dict[str, Any]) -> Table:
+    """Training's held-out scores beside the baselines, as the README's results table."""
     counts = metrics["counts"]
     table = Table(title=f"held-out metrics ({counts['imagination_predictions']} imagination predictions, "
                         f"{counts['test_frames']} AE test frames)")
@@ -33,6 +35,7 @@ REPLAY_ROWS = {"imagination": "imagination, all predicted frames", "imagination_
 
 
 def replay_table(metrics: dict[str, Any]) -> Table:
+    """Replay scores: every imagined frame, the last 5 s, blind and seeing frames, the fused view."""
     table = Table(title=f"replay of {metrics['recording']} ({metrics['predicted_frames']} imagined frames, "
                         f"{metrics['blind_frames']} blind)")
     for column in ("", "BCE", "IoU", "Dice", "tip error (mm)"):

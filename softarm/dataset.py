@@ -64,6 +64,7 @@ class Dataset:
         return np.stack([self.sequences[n].frames[k] for n, k in targets])
 
     def fingerprints(self) -> list[dict]:
+        """Name, SHA-256 (first 16 hex digits) and frame count of each recording: what a checkpoint was trained on."""
         return [{"name": s.name, "sha256": s.fingerprint, "frames": len(s.times)} for s in self.sequences]
 
 
@@ -88,6 +89,7 @@ def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
 
 
 def fingerprint(path: Path) -> str:
+    """First 16 hex digits of the file's SHA-256: enough to tell recordings apart, short enough to read."""
     digest = hashlib.sha256()
     with open(path, "rb") as f:
         for block in iter(lambda: f.read(1 << 20), b""):

@@ -29,6 +29,7 @@ class Imaginer:
 
     @classmethod
     def from_checkpoint(cls, state: dict[str, Any]) -> "Imaginer":
+        """Rebuild the networks from a checkpoint's state; refuse one whose weights do not fit them."""
         if state.get("lstm") is None:
             raise CheckpointError("the checkpoint's training stopped before the LSTM: finish it with --resume")
         t = state["config"]["train"]

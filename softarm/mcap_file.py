@@ -15,6 +15,8 @@ from softarm import __version__
 
 
 class McapFile:
+    """One MCAP file being written: channels registered up front, messages added, closed or discarded."""
+
     def __init__(self, path: Path, image_topics: tuple[str, ...], json_schemas: dict[str, tuple[str, bytes]]):
         self.path = Path(path)
         self.part = self.path.with_name(self.path.name + ".part")

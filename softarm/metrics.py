@@ -23,6 +23,7 @@ def iou_per_frame(prob: np.ndarray, truth: np.ndarray) -> np.ndarray:
 
 
 def dice_per_frame(prob: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """2 |P ∩ T| / (|P| + |T|) per frame; 1 where both are empty."""
     both, p, t = _overlaps(prob, truth)
     return np.where(p + t > 0, 2 * both / np.maximum(p + t, 1), 1.0)
 
@@ -68,6 +69,7 @@ def summarise(per_frame: dict[str, np.ndarray], mask: np.ndarray | None = None) 
 
 
 def image_scores(prob: np.ndarray, truth: np.ndarray, pixels_per_metre: float) -> dict[str, float]:
+    """BCE, IoU, Dice and tip error (mm) averaged over all frames."""
     return summarise(frame_scores(prob, truth, pixels_per_metre))
 
 
@@ -81,5 +83,6 @@ def ridge_fit(inputs: np.ndarray, targets: np.ndarray, alpha: float = 1e-3) -> t
 
 
 def ridge_predict(model: tuple[np.ndarray, np.ndarray], inputs: np.ndarray) -> np.ndarray:
+    """Targets (M, K) predicted for flattened inputs (M, ...) by a `ridge_fit` model."""
     weights, bias = model
     return inputs.reshape(len(inputs), -1) @ weights + bias

@@ -26,7 +26,7 @@ class Replay:
     recording: Recording
     checkpoint: Path
     imagined: np.ndarray   # (T, H, W) probabilities; 0 where nothing is imagined yet
-    predicted: np.ndarray  # (T,) bool: frames with an imagination (all but the first `history` ones)
+    predicted: np.ndarray  # (T,) bool: frames with an imagination (all but the first history (+1) ones)
     iou: np.ndarray        # (T,) imagination IoU per frame, NaN where nothing is imagined
     blind: np.ndarray      # (T,) bool: camera blacked out
     fused: np.ndarray      # (T, H, W): the camera where it sees, the imagination where it is blind

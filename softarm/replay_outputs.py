@@ -31,6 +31,7 @@ class ReplayOutcome:
 def write_replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (), rrd: Optional[PathLike] = None,
                  mcap: Optional[PathLike] = None, png: Optional[PathLike] = None, spawn: bool = False,
                  force: bool = False) -> ReplayOutcome:
+    """Every output is checked before the replay starts, so a refused path costs nothing; each is written whole."""
     start = time.perf_counter()
     outputs = [Path(p) for p in (rrd, mcap, png) if p is not None]
     if len(set(outputs)) != len(outputs):

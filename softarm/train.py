@@ -59,9 +59,9 @@ def check_train_outputs(checkpoint: Path, rrd: Optional[Path], resume: bool, for
         raise CheckpointError(f"--resume: there is no checkpoint {checkpoint} to continue")
     if checkpoint.exists() and not (resume or force):
         raise OutputError(f"checkpoint {checkpoint} already exists; pass --resume to continue it or --force to replace it")
-    if rrd is not None and Path(rrd).exists() and not force:
-        raise OutputError(f"output {rrd} already exists; pass --force to overwrite it")
-    check_outputs([p for p in (checkpoint, rrd) if p is not None and not (resume and p == checkpoint)], force=True)
+    check_outputs([checkpoint], force=True)  # folders and permissions; an existing checkpoint is handled above
+    if rrd is not None:
+        check_outputs([Path(rrd)], force)
 
 
 def finite_or_null(value: Any) -> Any:
@@ -74,6 +74,7 @@ def finite_or_null(value: Any) -> Any:
 
 
 def metrics_path_for(checkpoint: Path) -> Path:
+    """The metrics JSON sits beside its checkpoint: model.pt -> model.metrics.json."""
     return checkpoint.with_suffix(".metrics.json")
 
 
@@ -83,6 +84,7 @@ def cosine_lr(base: float, step: int, total: int) -> float:
 
 
 def epoch_order(n: int, seed: int, phase: int, epoch: int) -> torch.Tensor:
+    """The shuffle of one epoch, from its own seed: a resumed run shuffles exactly as an uninterrupted one."""
     return torch.randperm(n, generator=torch.Generator().manual_seed(seed * 1_000_003 + phase * 10_007 + epoch))
 
 

@@ -45,9 +45,8 @@ class TrainingView:
         # With neither a viewer nor a file it is disabled: a bare stream would buffer everything in memory.
         self.rrd = Path(rrd) if rrd is not None else None
         self.part = self.rrd.with_name(self.rrd.name + ".part") if self.rrd is not None else None
-        self.enabled = spawn or rrd is not None
-        self._closed = not self.enabled  # nothing to log to: every call is a no-op, no stream is made
-        if not self.enabled:
+        self._closed = not (spawn or rrd is not None)  # nothing to log to: every call is a no-op, no stream is made
+        if self._closed:
             return
         self._rec = rr.RecordingStream(application_id)
         sinks: list[rr.GrpcSink | rr.FileSink] = []
@@ -56,8 +55,8 @@ class TrainingView:
             sinks.append(rr.GrpcSink())
         if self.part is not None:
             sinks.append(rr.FileSink(self.part))
-        if sinks:  # one call for both: a later save() or connect_grpc() would replace the earlier sink
-            self._rec.set_sinks(*sinks, default_blueprint=blueprint())
+        # One call for both: a later save() or connect_grpc() would replace the earlier sink.
+        self._rec.set_sinks(*sinks, default_blueprint=blueprint())
 
     def loss(self, name: str, step: int, value: float) -> None:
         """One point of the curve `loss/<name>` (e.g. ae_train, ae_test, lstm_train, lstm_val) at `step`."""
