@@ -24,15 +24,22 @@ def init_taichi(arch: str = "cpu", debug: bool = False) -> str:
         if _started[0] != arch:
             raise SoftarmError(f"Taichi is already running with arch {_started[0]!r}; restart to use {arch!r}")
         return backend_name()
-    choice = {"cpu": ti.cpu, "gpu": ti.gpu, "auto": ti.gpu}[arch]
+    # CUDA, not ti.gpu: Taichi 1.7's probe of the other GPU backends can crash the process on a machine
+    # without them, while a missing CUDA is a clean RuntimeError.
     try:
-        with contextlib.redirect_stdout(io.StringIO()):  # ti.init prints "Starting on arch=..." itself
-            ti.init(arch=choice, default_fp=ti.f64, offline_cache=True, debug=debug, log_level=ti.ERROR,
-                    enable_fallback=arch != "gpu")
+        _start(ti.cpu if arch == "cpu" else ti.cuda, debug)
     except RuntimeError as e:
-        raise SoftarmError(f"--arch gpu: no GPU backend is available here ({e}); use --arch cpu or auto") from None
+        if arch == "gpu":
+            raise SoftarmError(f"--arch gpu: no CUDA GPU is available here ({e}); use --arch cpu or auto") from None
+        _start(ti.cpu, debug)  # auto: fall back to the CPU
     _started.append(arch)
     return backend_name()
+
+
+def _start(backend: object, debug: bool) -> None:
+    with contextlib.redirect_stdout(io.StringIO()):  # ti.init prints "Starting on arch=..." itself
+        ti.init(arch=backend, default_fp=ti.f64, offline_cache=True, debug=debug, log_level=ti.ERROR,
+                enable_fallback=False)
 
 
 def backend_name() -> str:

@@ -126,3 +126,18 @@ def test_ctrl_c_keeps_every_frame_so_far_in_a_closed_file(tmp_path):
     assert 0 < len(rec.times) < 10000
     np.testing.assert_allclose(rec.times, np.arange(len(rec.times)) * 0.01)
     assert not part.exists()
+
+
+def test_arch_gpu_runs_on_a_gpu_or_says_in_one_line_that_there_is_none(tmp_path):
+    result = softarm("sim", "--arch", "gpu", "--duration", "0.1", "--out", "g.mcap", "-q", cwd=tmp_path)
+    if result.returncode == 0:  # a machine with a CUDA GPU
+        assert read_recording(tmp_path / "g.mcap").frames.shape[0] == 10
+    else:  # never a crash (Taichi's own GPU probe segfaults on some machines)
+        assert_one_line_error(result, "--arch gpu", "no CUDA GPU", "--arch cpu or auto")
+        assert files_under(tmp_path) == []
+
+
+def test_arch_auto_falls_back_to_the_cpu(tmp_path):
+    result = softarm("sim", "--arch", "auto", "--duration", "0.1", "--out", "a.mcap", "-q", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert read_recording(tmp_path / "a.mcap").frames.shape[0] == 10
