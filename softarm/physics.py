@@ -2,8 +2,7 @@
 
 One kernel launch advances every arm a block of frames. The outer loop runs over arms in parallel;
 one arm's substeps are a tight serial loop, because ~160 springs are too few to split across threads
-on a CPU. Arrays are Taichi ndarrays with the arm (batch) dimension first, so the kernels compile
-once for any batch size and stay in the offline cache.
+on a CPU. Fields have the arm (batch) dimension first.
 """
 
 from typing import Sequence
@@ -14,14 +13,7 @@ import taichi as ti
 from softarm.body import Body
 from softarm.errors import SimulationError
 from softarm.excitation import Drive
-from softarm.runtime import device_array, device_vectors, host, task_layout, upload
-
-f64nd = ti.types.ndarray(dtype=ti.f64)
-v2nd = ti.types.ndarray(dtype=ti.types.vector(2, ti.f64))  # one index computation per [x, y] pair
-v3nd = ti.types.ndarray(dtype=ti.types.vector(3, ti.f64))
-i2nd = ti.types.ndarray(dtype=ti.types.vector(2, ti.i32))
-i32nd = ti.types.ndarray(dtype=ti.i32)
-
+from softarm.runtime import task_layout
 
 @ti.func
 def drive_at(t: ti.f64, amplitude: ti.f64, freqs: ti.template()) -> ti.math.vec2:
@@ -80,73 +72,88 @@ def first_far_node(a: int, x: ti.template(), rest: ti.template(), free: ti.templ
     return found
 
 
-@ti.kernel
-def advance_frames(x: v2nd, v: v2nd, force: v2nd, history: f64nd, status: i32nd,
-                   rest: v2nd, mass: f64nd, free: i32nd, springs: i2nd, spring_params: v3nd,
-                   amplitude: f64nd, time_offset: f64nd, freqs: f64nd,
-                   gx: ti.f64, gy: ti.f64, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
-                   frame_dt: ti.f64, blowup_distance: ti.f64, tasks: ti.i32, spacing: ti.i32):
-    """Record each arm's state as frames first_frame.. into history[:, :n_frames], stepping between them.
-
-    Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
-    status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
-    arm stops stepping.
-    """
-    h = frame_dt / substeps
-    arms = x.shape[0]
-    for slot in range(tasks * spacing):
-        if slot % spacing == 0:
-            task = slot // spacing
-            for j in range((arms - task + tasks - 1) // tasks):
-                a = task + j * tasks
-                for f in range(n_frames):
-                    for i in range(x.shape[1]):
-                        history[a, f, i, 0] = x[a, i][0]
-                        history[a, f, i, 1] = x[a, i][1]
-                    if status[a, 0] < 0:
-                        k = first_frame + f
-                        for s in range(substeps):
-                            accumulate_forces(a, x, v, force, springs, spring_params, mass, gx, gy)
-                            t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + time_offset[a]
-                            substep(a, t, h, x, v, force, rest, mass, free, amplitude, freqs)
-                        far = first_far_node(a, x, rest, free, blowup_distance)
-                        if far >= 0:
-                            status[a, 0] = k + 1
-                            status[a, 1] = far
-
-
+@ti.data_oriented
 class Simulator:
-    """Owns the state of a batch of arms on the Taichi device and steps it block by block."""
+    """Owns the state of a batch of arms on the Taichi device and steps it block by block.
+
+    The state lives in Taichi fields whose shapes are fixed per simulator, so the kernel's index
+    arithmetic is constant: one thread runs about 1.4x faster than on ndarrays, at the price of one
+    kernel compile per simulator (Taichi's offline cache keeps it for the next run of the same shape).
+    `history` is the host copy of the last block: (arms, block_frames, N, 2).
+    """
 
     def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
                  blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100):
-        arms, n = len(drives), body.n_nodes
+        arms, n, springs = len(drives), body.n_nodes, len(body.springs)
         if len({d.frequencies for d in drives}) != 1:
             raise ValueError("all arms of a batch share the excitation frequencies")
         self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
         self.arms, self.block_frames, self.frame = arms, block_frames, 0
-
-        self.x = upload(np.broadcast_to(positions, (arms, n, 2)).astype(np.float64), vectors=True)
-        self.v = upload(np.broadcast_to(velocities, (arms, n, 2)).astype(np.float64), vectors=True)
-        self.force = device_vectors((arms, n))
-        self.history = device_array((arms, block_frames, n, 2), "float64")
-        self.status = upload(np.full((arms, 2), -1, np.int32))
-        self._model = (upload(body.rest, vectors=True), upload(body.masses), upload(body.free.astype(np.int32)),
-                       upload(body.springs.astype(np.int32), vectors=True),
-                       upload(np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1), vectors=True),
-                       upload(np.array([d.amplitude for d in drives])),
-                       upload(np.array([d.time_offset for d in drives])),
-                       upload(np.array(drives[0].frequencies, np.float64)))
+        self.x, self.v, self.force, self.rest, self.positions = (ti.Vector.field(2, ti.f64) for _ in range(5))
+        self.springs, self.spring_params = ti.Vector.field(2, ti.i32), ti.Vector.field(3, ti.f64)
+        self.mass, self.amplitude, self.time_offset, self.freqs = (ti.field(ti.f64) for _ in range(4))
+        self.free, self.status = ti.field(ti.i32), ti.field(ti.i32)
+        builder = ti.FieldsBuilder()
+        builder.dense(ti.ij, (arms, n)).place(self.x, self.v, self.force)
+        builder.dense(ti.ijk, (arms, block_frames, n)).place(self.positions)
+        builder.dense(ti.ij, (arms, 2)).place(self.status)
+        builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
+        builder.dense(ti.i, springs).place(self.springs, self.spring_params)
+        builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
+        builder.dense(ti.i, len(drives[0].frequencies)).place(self.freqs)
+        self._tree = builder.finalize()
+        fill = {self.x: np.broadcast_to(positions, (arms, n, 2)), self.v: np.broadcast_to(velocities, (arms, n, 2)),
+                self.rest: body.rest, self.mass: body.masses,
+                self.spring_params: np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1),
+                self.amplitude: [d.amplitude for d in drives], self.time_offset: [d.time_offset for d in drives],
+                self.freqs: drives[0].frequencies}
+        for field, values in fill.items():
+            field.from_numpy(np.ascontiguousarray(values, np.float64))
+        for field, values in {self.status: np.full((arms, 2), -1), self.free: body.free, self.springs: body.springs}.items():
+            field.from_numpy(np.ascontiguousarray(values, np.int32))
+        self.history = np.zeros((arms, block_frames, n, 2))
         self._tasks = task_layout(arms)
+
+    @ti.kernel
+    def _advance(self, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32, frame_dt: ti.f64,
+                 blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, tasks: ti.i32, spacing: ti.i32):
+        """Record each arm's state as frames first_frame.. into positions[:, :n_frames], stepping between them.
+
+        Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
+        status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
+        arm stops stepping.
+        """
+        h = frame_dt / substeps
+        arms = self.x.shape[0]
+        for slot in range(tasks * spacing):
+            if slot % spacing == 0:
+                task = slot // spacing
+                for j in range((arms - task + tasks - 1) // tasks):
+                    a = task + j * tasks
+                    for f in range(n_frames):
+                        for i in range(self.x.shape[1]):
+                            self.positions[a, f, i] = self.x[a, i]
+                        if self.status[a, 0] < 0:
+                            k = first_frame + f
+                            for s in range(substeps):
+                                accumulate_forces(a, self.x, self.v, self.force, self.springs, self.spring_params,
+                                                  self.mass, gx, gy)
+                                t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + self.time_offset[a]
+                                substep(a, t, h, self.x, self.v, self.force, self.rest, self.mass, self.free,
+                                        self.amplitude, self.freqs)
+                            far = first_far_node(a, self.x, self.rest, self.free, blowup_distance)
+                            if far >= 0:
+                                self.status[a, 0] = k + 1
+                                self.status[a, 1] = far
 
     def step_block(self, n_frames: int) -> None:
         """Fill `history[:, :n_frames]` with the next n_frames frames and step past them."""
         if not 1 <= n_frames <= self.block_frames:
             raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
         gx, gy = self.body.gravity
-        advance_frames(self.x, self.v, self.force, self.history, self.status, *self._model,
-                       float(gx), float(gy), self.frame, n_frames, self.substeps, self.frame_dt,
-                       self.blowup_distance, *self._tasks)
+        self._advance(self.frame, n_frames, self.substeps, self.frame_dt, self.blowup_distance, float(gx), float(gy),
+                      *self._tasks)
+        self.history = self.positions.to_numpy()
         self.frame += n_frames
         self._raise_on_blowup()
 
@@ -156,12 +163,16 @@ class Simulator:
         while n_frames > 0:
             block = min(n_frames, self.block_frames)
             self.step_block(block)
-            out.append(host(self.history)[:, :block].copy())
+            out.append(self.history[:, :block])
             n_frames -= block
         return np.concatenate(out, axis=1)
 
+    def close(self) -> None:
+        """Free the fields; a process that makes many simulators (a notebook, the tests) should call it."""
+        self._tree.destroy()
+
     def _raise_on_blowup(self) -> None:
-        status = host(self.status)
+        status = self.status.to_numpy()
         bad = np.flatnonzero(status[:, 0] >= 0)
         if len(bad) == 0:
             return

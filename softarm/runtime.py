@@ -57,18 +57,10 @@ def device_array(shape: tuple[int, ...], dtype: str) -> Union[np.ndarray, ti.Nda
     return ti.ndarray({"float64": ti.f64, "int32": ti.i32, "uint8": ti.u8}[dtype], shape)
 
 
-def device_vectors(shape: tuple[int, ...], size: int = 2, dtype: str = "float64") -> Union[np.ndarray, ti.Ndarray]:
-    """An array of `size`-vectors for kernels that take `ndarray(dtype=vector)`: shape + (size,) in NumPy on the CPU."""
-    if on_cpu():
-        return np.zeros((*shape, size), dtype)
-    return ti.Vector.ndarray(size, {"float64": ti.f64, "int32": ti.i32}[dtype], shape)
-
-
-def upload(array: np.ndarray, vectors: bool = False) -> Union[np.ndarray, ti.Ndarray]:
-    """A device copy of `array` (on the CPU: a contiguous NumPy copy); vectors=True reads the last axis as vectors."""
+def upload(array: np.ndarray) -> Union[np.ndarray, ti.Ndarray]:
+    """A device copy of `array` (on the CPU: a contiguous NumPy copy)."""
     array = np.ascontiguousarray(array)
-    out = (device_vectors(array.shape[:-1], array.shape[-1], array.dtype.name) if vectors
-           else device_array(array.shape, array.dtype.name))
+    out = device_array(array.shape, array.dtype.name)
     if isinstance(out, np.ndarray):
         out[...] = array
     else:

@@ -142,5 +142,7 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     except BaseException:
         recorder.discard()
         raise
+    finally:
+        sim.close()
     return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,
                      simulated_seconds=done * integ.frame_dt, stage_seconds=laps.seconds)
