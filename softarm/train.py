@@ -6,9 +6,11 @@ randomness comes from its own seed and the learning rate from the step count, a 
 epoch's checkpoint ends exactly where an uninterrupted run ends (on the CPU).
 """
 
+import dataclasses
 import json
 import math
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Optional, Protocol, Sequence, Union
@@ -95,9 +97,14 @@ class Trainer:
                  observer: Optional[TrainingObserver], progress: Optional[Progress]):
         self.config, self.t, self.out = config, config.train, Path(out)
         self.observer, self.progress = observer, progress or (lambda *a: None)
-        previous = self._previous_run() if resume else None
+        previous = load_checkpoint(self.out) if resume else None
         if previous is not None:
-            self.config, self.t = config_from_dict(previous["config"]), config_from_dict(previous["config"]).train
+            saved = config_from_dict(previous["config"])
+            ignored = {k: v for k, v in dataclasses.asdict(config.train).items() if getattr(saved.train, k) != v}
+            if ignored:
+                warnings.warn(f"--resume continues with the saved run's settings; ignored: "
+                              + ", ".join(f"train.{k} = {v}" for k, v in ignored.items()), stacklevel=2)
+            self.config, self.t = saved, saved.train
         self.data: Dataset = load_dataset(paths, self.t)
         self.height, self.width = self.data.image_shape
         torch.manual_seed(self.t.seed)
@@ -113,9 +120,6 @@ class Trainer:
             self._restore(previous)
 
     # --- checkpoint -------------------------------------------------------------------------------
-
-    def _previous_run(self) -> dict[str, Any]:
-        return load_checkpoint(self.out)
 
     def _restore(self, state: dict[str, Any]) -> None:
         fingerprints = [r["sha256"] for r in self.data.fingerprints()]

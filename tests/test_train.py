@@ -85,3 +85,16 @@ def test_cli_refuses_missing_empty_and_foreign_recordings(tmp_path, content, wor
         (tmp_path / "r.mcap").write_bytes(content)
     assert_one_line_error(softarm("train", "r.mcap", "--out", "x.pt", cwd=tmp_path), "r.mcap", *words)
     assert not (tmp_path / "x.pt").exists()
+
+
+def test_resume_warns_that_changed_settings_are_ignored(recordings, tiny_checkpoint, tmp_path):
+    import shutil
+    import warnings
+
+    shutil.copy(tiny_checkpoint.checkpoint, tmp_path / "done.pt")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        again = train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.epochs_lstm": 99}),
+                      tmp_path / "done.pt", resume=True)
+    assert any("train.epochs_lstm = 99" in str(w.message) for w in caught)
+    assert again.metrics == tiny_checkpoint.metrics  # the saved run was already finished: nothing changes
