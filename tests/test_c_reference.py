@@ -9,6 +9,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))  # bench/ is not a package
 
 from c_reference import CReference, find_compiler  # noqa: E402
+from runs import assert_batch_equals_single_runs  # noqa: E402
 from softarm.body import build_body, hanging_equilibrium  # noqa: E402
 from softarm.config import load_config  # noqa: E402
 from softarm.excitation import drive_for_seed  # noqa: E402
@@ -39,10 +40,4 @@ def test_c_reference_matches_the_numpy_reference_over_two_seconds(seed):
 
 
 def test_each_arm_of_a_c_batch_equals_its_single_arm_run():
-    config = load_config()
-    drives = [drive_for_seed(config.excitation, seed) for seed in range(3)]
-    batch = hanging_run(config, drives).advance(150)
-    for arm, drive in enumerate(drives):
-        single = hanging_run(config, [drive]).advance(150)[0]
-        assert np.array_equal(batch[arm], single)
-    assert np.abs(batch[1] - batch[0]).max() > 1e-3  # the seeds really differ
+    assert_batch_equals_single_runs(hanging_run, tolerance=0.0)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from oscillator import REST_LENGTH, STILL, analytic_rates, measured_rates, one_spring, pulled
+from runs import assert_batch_equals_single_runs
 from softarm.body import build_body, hanging_equilibrium
 from softarm.config import load_config
 from softarm.errors import SimulationError
@@ -34,13 +35,7 @@ def test_default_arm_matches_the_numpy_reference_over_five_seconds(seed):
 
 
 def test_each_arm_of_a_batch_equals_its_single_arm_run():
-    config = load_config()
-    drives = [drive_for_seed(config.excitation, seed) for seed in range(3)]
-    batch = default_run(config, drives).advance(150)
-    for arm, drive in enumerate(drives):
-        single = default_run(config, [drive]).advance(150)[0]
-        assert np.abs(batch[arm] - single).max() <= 1e-12
-    assert np.abs(batch[1] - batch[0]).max() > 1e-3  # the seeds really differ
+    assert_batch_equals_single_runs(default_run, tolerance=1e-12)
 
 
 def test_one_mass_rings_at_the_damped_frequency_and_decays_at_zeta_w0():
