@@ -1,6 +1,6 @@
 """The hand-written C physics (physics_reference.c), built with the system compiler and called through ctypes.
 
-The benchmark's "practical limit of one core": the same model and scheme as `softarm.physics.Simulator`,
+The benchmark's "practical limit of one core": the same model and scheme as `softarm.sim.physics.Simulator`,
 written as the tight serial loop a person would write by hand, arms one after another.
 
     sim = CReference(body, drives, frame_dt, substeps, positions, velocities)
@@ -18,8 +18,10 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from softarm.body import Body
-from softarm.excitation import Drive
+from softarm.arm.batch import ArmBatch
+from softarm.arm.body import Body
+from softarm.arm.drive import Drive
+from softarm.config import Config
 
 SOURCE = Path(__file__).with_name("physics_reference.c")
 FLAGS = ("-O3", "-march=native", "-shared", "-fPIC")
@@ -100,6 +102,12 @@ class CReference:
                        f64(body.masses), i32(body.free), f64(body.rest), float(body.gravity[0]),
                        float(body.gravity[1]), f64([d.amplitude for d in drives]),
                        f64([d.time_offset for d in drives]), len(drives[0].frequencies), f64(drives[0].frequencies))
+
+    @classmethod
+    def from_config(cls, config: Config, batch: ArmBatch) -> "CReference":
+        """The arms of `batch` started exactly as `softarm.sim.physics.Simulator.from_config` starts them."""
+        i = config.integration
+        return cls(batch.body, batch.drives, i.frame_dt, i.substeps, batch.positions, batch.velocities)
 
     def advance(self, n_frames: int) -> np.ndarray:
         """(arms, n_frames, N, 2) positions at the next n_frames frame times, float64."""

@@ -1,6 +1,6 @@
 /* softarm's physics as plain serial C: the benchmark's "practical limit of one core".
 
-   The same model and scheme as `advance_frames` in softarm/physics.py (MODEL.md, Forces and
+   The same model and scheme as `Simulator._advance` in softarm/sim/physics.py (docs/model.md, Forces and
    Integration): for each arm in turn, record the positions as a frame, then take `substeps`
    semi-implicit Euler steps to the next frame. One step:
      force = m g on every node, plus per spring (i, j): f = (k (L - L0) + b (v_j - v_i) . u) u on i, -f on j;
@@ -20,7 +20,7 @@
 
 static const double TWO_PI = 6.283185307179586;
 
-/* (f(t), f'(t)) of the product of sines, by the product rule (softarm.physics.drive_at). */
+/* (f(t), f'(t)) of the product of sines, by the product rule (softarm.sim.physics.drive_at). */
 static inline void drive_at(double t, double amplitude, int n_freqs, const double *restrict freqs,
                             double *restrict value, double *restrict rate)
 {

@@ -22,15 +22,14 @@ from typing import Callable
 import cv2
 import numpy as np
 
-from softarm.body import build_body, hanging_equilibrium
-from softarm.camera import world_to_pixel
+from softarm.arm.batch import arm_batch
+from softarm.arm.camera import world_to_pixel
+from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
-from softarm.excitation import drive_for_seed
-from softarm.physics import Simulator
-from softarm.raster import Rasteriser
-from softarm.reference import simulate_reference
-from softarm.runtime import host, init_taichi
-from softarm.sim import MAX_BLOCK_FRAMES, simulate
+from softarm.sim.physics import Simulator
+from softarm.sim.raster import Rasteriser
+from softarm.sim.run import MAX_BLOCK_FRAMES, simulate
+from softarm.sim.runtime import init_taichi
 
 from c_reference import CReference, find_compiler  # bench/c_reference.py, next to this script
 
@@ -51,19 +50,16 @@ def row(name: str, ours: float, reference: float, unit: str, against: str) -> di
 
 
 def physics_rows(config, quick: bool) -> list[dict]:
-    body = build_body(config)
-    x = hanging_equilibrium(body)
+    one = arm_batch(config, seeds=[0])
     i = config.integration
-    springs = len(body.springs)
+    springs = len(one.body.springs)
     ref_frames = 5 if quick else 20
-    drive = drive_for_seed(config.excitation, 0)
-    numpy_s = best_of(3, lambda: simulate_reference(body, drive, x, np.zeros_like(x), i.frame_dt, i.substeps,
-                                                    ref_frames + 1))
+    numpy_s = best_of(3, lambda: simulate_reference(one.body, one.drives[0], one.positions[0], one.velocities[0],
+                                                    i.frame_dt, i.substeps, ref_frames + 1))
     numpy_rate = ref_frames * i.substeps * springs / numpy_s  # spring updates per second, one arm
     rows = []
     for arms in (1, 64):
-        drives = [drive_for_seed(config.excitation, s) for s in range(arms)]
-        sim = Simulator(body, drives, i.frame_dt, i.substeps, i.blowup_distance, x, np.zeros_like(x), 100)
+        sim = Simulator.from_config(config, arm_batch(config, seeds=range(arms)))
         sim.step_block(1)  # compile (or load from the offline cache) outside the timing
         blocks = 1 if quick or arms > 1 else 10
         seconds = best_of(3, lambda: [sim.step_block(100) for _ in range(blocks)])
@@ -83,10 +79,9 @@ def c_reference_rows(config, quick: bool) -> list[dict]:
     if find_compiler() is None:
         print("physics vs C: skipped, no C compiler (cc or gcc) on PATH", file=sys.stderr)
         return []
-    body = build_body(config)
-    x, still = hanging_equilibrium(body), np.zeros((body.n_nodes, 2))
+    one = arm_batch(config, seeds=[0])
     i = config.integration
-    per_frame = i.substeps * len(body.springs)  # spring updates per arm and frame
+    per_frame = i.substeps * len(one.body.springs)  # spring updates per arm and frame
     target, repeats = (2e7, 1) if quick else (1e8, 3)  # spring updates per measurement: ~0.2 s / ~1-2 s
     against = "hand-written C -O3, one core"
 
@@ -97,18 +92,17 @@ def c_reference_rows(config, quick: bool) -> list[dict]:
         for start in range(0, frames, 100):
             step(min(100, frames - start))
 
-    drive = drive_for_seed(config.excitation, 0)
-    c = CReference(body, [drive], i.frame_dt, i.substeps, x, still)
+    c = CReference.from_config(config, one)
     frames = frames_for(1)
     c.advance(100)  # warm up caches and the drive's first cycle outside the timing
     c_rate = frames * per_frame / best_of(3, lambda: in_blocks(c.advance, frames))  # the divisor of every row
     numpy_frames = 5 if quick else 20
-    numpy_s = best_of(3, lambda: simulate_reference(body, drive, x, still, i.frame_dt, i.substeps, numpy_frames + 1))
+    numpy_s = best_of(3, lambda: simulate_reference(one.body, one.drives[0], one.positions[0], one.velocities[0],
+                                                    i.frame_dt, i.substeps, numpy_frames + 1))
     rows = [row("physics, 1 arm, C vs NumPy", c_rate, numpy_frames * per_frame / numpy_s, "spring updates/s",
                 "NumPy reference (float64)")]
     for arms in (1, 16, 64, 256):
-        drives = [drive_for_seed(config.excitation, s) for s in range(arms)]
-        sim = Simulator(body, drives, i.frame_dt, i.substeps, i.blowup_distance, x, still, 100)
+        sim = Simulator.from_config(config, arm_batch(config, seeds=range(arms)))
         frames = frames_for(arms)
         sim.step_block(min(100, frames))  # compile (or load from the offline cache) and warm up outside the timing
         seconds = best_of(repeats, lambda: in_blocks(sim.step_block, frames))
@@ -118,15 +112,12 @@ def c_reference_rows(config, quick: bool) -> list[dict]:
 
 
 def raster_rows(config, quick: bool) -> list[dict]:
-    body = build_body(config)
-    x = hanging_equilibrium(body)
-    i = config.integration
+    one = arm_batch(config, seeds=[0])
     frames = MAX_BLOCK_FRAMES  # the block `softarm sim` draws per kernel launch
-    sim = Simulator(body, [drive_for_seed(config.excitation, 0)], i.frame_dt, i.substeps, i.blowup_distance,
-                    x, np.zeros_like(x), frames)
+    sim = Simulator.from_config(config, one, block_frames=frames)
     sim.step_block(frames)
-    history = host(sim.history).copy()
-    camera = Rasteriser(config.camera, body.outline, 1, frames)
+    history = sim.history.copy()
+    camera = Rasteriser(config.camera, one.body.outline, 1, frames)
     camera.render(sim.history, frames)
     repeats = 3 if quick else 10
     ours = best_of(repeats, lambda: camera.render(sim.history, frames))
@@ -135,7 +126,7 @@ def raster_rows(config, quick: bool) -> list[dict]:
 
     def with_cv2() -> None:
         for f in range(frames):
-            polygon = history[0, f, body.outline] @ M[:, :2].T + M[:, 2] - 0.5  # cv2: integer = pixel centre
+            polygon = history[0, f, one.body.outline] @ M[:, :2].T + M[:, 2] - 0.5  # cv2: integer = pixel centre
             image[:] = 0
             cv2.fillPoly(image, [np.round(polygon * 256).astype(np.int32)], 1, lineType=cv2.LINE_8, shift=8)
 

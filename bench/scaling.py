@@ -19,26 +19,21 @@ RESULTS = Path(__file__).parent / "results"
 
 def measure(arch: str, arms_list: list[int], frames: int) -> dict[int, float]:
     """Spring updates per second for each batch size on one backend (runs inside the child process)."""
-    import numpy as np
-
-    from softarm.body import build_body, hanging_equilibrium
+    from softarm.arm.batch import arm_batch
     from softarm.config import load_config
-    from softarm.excitation import drive_for_seed
-    from softarm.physics import Simulator
-    from softarm.runtime import init_taichi
+    from softarm.sim.physics import Simulator
+    from softarm.sim.runtime import init_taichi
 
     init_taichi(arch)
     config = load_config()
-    body = build_body(config)
-    x = hanging_equilibrium(body)
     i = config.integration
     rates = {}
     for arms in arms_list:
-        drives = [drive_for_seed(config.excitation, s) for s in range(arms)]
-        sim = Simulator(body, drives, i.frame_dt, i.substeps, i.blowup_distance, x, np.zeros_like(x), frames)
+        batch = arm_batch(config, seeds=range(arms))
+        sim = Simulator.from_config(config, batch, block_frames=frames)
         sim.step_block(frames)  # compile or load from the offline cache, warm up
         best = min(timed(lambda: sim.step_block(frames)) for _ in range(3))
-        rates[arms] = arms * frames * i.substeps * len(body.springs) / best
+        rates[arms] = arms * frames * i.substeps * len(batch.body.springs) / best
     return rates
 
 

@@ -3,23 +3,28 @@
 import sys
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Callable, Optional, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, Callable, Optional, TypeVar
 
 import typer
 from rich.console import Console
 
-from cli.progress import LazyProgress
 from softarm import __version__
-from softarm.config import ARCHS, DEFAULT_CONFIG_TEXT, Config, load_config
+from softarm.config import DEFAULT_CONFIG_TEXT, load_config
 from softarm.errors import SoftarmError
+from softarm.sim import ARCHS
+from softarm_cli.progress import LazyProgress
 
+# Plain help (no rich markup): rich would read every "[default: ...]" as a markup tag and drop it,
+# and would show flags as if they took a <bool> value.
 app = typer.Typer(help="softarm: a simulated soft arm that learns to picture its own body from its stretch sensors.",
-                  no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False,
-                  context_settings={"help_option_names": ["-h", "--help"]})
+                  no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False, rich_markup_mode=None,
+                  context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 120})
 err = Console(stderr=True, highlight=False, soft_wrap=True)
 out = Console(highlight=False, soft_wrap=True)
 if TYPE_CHECKING:
-    from softarm.train import TrainResult  # imports torch: only for the commands that train
+    from softarm.config import Config
+    from softarm.learn.run import TrainResult  # imports torch: only for the commands that train
+D = load_config()  # the defaults that --help shows come from the config, their one source of truth
 
 T = TypeVar("T")
 
@@ -68,11 +73,11 @@ def config() -> None:
 @app.command()
 def sim(
     config: Annotated[Optional[Path], typer.Option("--config", "-c", help="TOML config; omitted keys keep their defaults (see `softarm config`).")] = None,
-    duration: Annotated[Optional[float], typer.Option(help="Seconds to simulate [default: 100].")] = None,
-    amplitude: Annotated[Optional[float], typer.Option(help="Excitation amplitude A in metres [default: 0.004].")] = None,
-    substeps: Annotated[Optional[int], typer.Option(help="Integration substeps per 0.01 s frame [default: 30].")] = None,
-    arms: Annotated[Optional[int], typer.Option(help="Arms simulated together; arm i uses seed + i and gets its own file [default: 1].")] = None,
-    seed: Annotated[Optional[int], typer.Option(help="Seed of arm 0; seed 0 is the paper's run [default: 0].")] = None,
+    duration: Annotated[Optional[float], typer.Option(help=f"Seconds to simulate [default: {D.run.duration:g}].")] = None,
+    amplitude: Annotated[Optional[float], typer.Option(help=f"Excitation amplitude A in metres [default: {D.excitation.amplitude:g}].")] = None,
+    substeps: Annotated[Optional[int], typer.Option(help=f"Integration substeps per {D.integration.frame_dt:g} s frame [default: {D.integration.substeps}].")] = None,
+    arms: Annotated[Optional[int], typer.Option(help=f"Arms simulated together; arm i uses seed + i and gets its own file [default: {D.run.arms}].")] = None,
+    seed: Annotated[Optional[int], typer.Option(help=f"Seed of arm 0; seed 0 is the paper's run [default: {D.run.seed}].")] = None,
     arch: Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")] = "cpu",
     out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="Output .mcap [default: recordings/seed<SEED>.mcap]; a batch writes <stem>_arm<i>.mcap.")] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")] = False,
@@ -80,9 +85,10 @@ def sim(
 ) -> None:
     """Simulate the arm and record camera frames, stretch sensors, node positions and excitation as MCAP.
 
+    \b
     Example: softarm sim --duration 10 --arms 4 --out recordings/short.mcap
     """
-    from softarm.sim import simulate  # imports Taichi: only for the commands that need it
+    from softarm.sim.run import simulate  # imports Taichi: only for the commands that need it
 
     overrides = {"run.duration": duration, "excitation.amplitude": amplitude, "integration.substeps": substeps,
                  "run.arms": arms, "run.seed": seed}
@@ -100,38 +106,30 @@ def sim(
                   f"{result.wall_seconds:.1f} s: {result.real_time_factor:.0f}x real time", markup=False)
 
 
-
-def train_with_progress(recordings: list[Path], cfg: Config, out_file: Path, resume: bool, spawn: bool,
-                        rrd: Optional[Path], quiet: bool) -> "TrainResult":
-    """Train with a progress bar over both networks' epochs, the live view, and Ctrl-C as a stop request."""
-    from softarm.interrupt import stop_on_signal
-    from softarm.train import train as run_training
+def train_with_progress(recordings: list[Path], cfg: "Config", out_file: Optional[Path], **options: Any) -> "TrainResult":
+    """softarm.train with a progress bar over both networks' epochs."""
+    from softarm.learn.run import train as run_training
 
     total = cfg.train.epochs_ae + cfg.train.epochs_lstm
-    with LazyProgress(err, "training", total, "epochs", quiet=quiet) as bar:
+    with LazyProgress(err, "training", total, "epochs", quiet=options.pop("quiet", False)) as bar:
         def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
             bar.update(done + (0 if phase == "ae" else cfg.train.epochs_ae),
                        **{k: f"{k} {v:.4f}" for k, v in losses.items()})
 
-        def run() -> "TrainResult":
-            from softarm.viz import TrainingView
-            with TrainingView(spawn=spawn, rrd=rrd) as view, stop_on_signal() as caught:
-                return run_training(recordings, cfg, out_file, resume=resume, observer=view, progress=progress,
-                                    stop=lambda: bool(caught))
-        return run_or_exit(run)
+        return run_or_exit(lambda: run_training(recordings, cfg, out_file, progress=progress, **options))
 
 
 @app.command()
 def train(
-    recordings: Annotated[list[Path], typer.Argument(help="Recordings (.mcap) to learn from; each is split by time.")],
+    recordings: Annotated[list[Path], typer.Argument(metavar="RECORDING...", help="Recordings (.mcap) to learn from; each is split by time.")],
     out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="Checkpoint file [default: recordings/<first recording>.pt]; metrics go beside it as .metrics.json.")] = None,
     config: Annotated[Optional[Path], typer.Option("--config", "-c", help="TOML config; its [train] section sets the defaults below.")] = None,
-    epochs_ae: Annotated[Optional[int], typer.Option(help="Autoencoder epochs [default: 20].")] = None,
-    epochs_lstm: Annotated[Optional[int], typer.Option(help="LSTM epochs [default: 150].")] = None,
-    history: Annotated[Optional[int], typer.Option(help="Stretch samples the LSTM sees [default: 6].")] = None,
-    include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].")] = None,
-    latent: Annotated[Optional[int], typer.Option(help="Latent features of the autoencoder [default: 16].")] = None,
-    seed: Annotated[Optional[int], typer.Option(help="Seed of initialisation and shuffling [default: 0].")] = None,
+    epochs_ae: Annotated[Optional[int], typer.Option(help=f"Autoencoder epochs [default: {D.train.epochs_ae}].")] = None,
+    epochs_lstm: Annotated[Optional[int], typer.Option(help=f"LSTM epochs [default: {D.train.epochs_lstm}].")] = None,
+    history: Annotated[Optional[int], typer.Option(help=f"Stretch samples the LSTM sees [default: {D.train.history}].")] = None,
+    include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].", show_default=False)] = None,
+    latent: Annotated[Optional[int], typer.Option(help=f"Latent features of the autoencoder [default: {D.train.latent}].")] = None,
+    seed: Annotated[Optional[int], typer.Option(help=f"Seed of initialisation and shuffling [default: {D.train.seed}].")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue the interrupted run saved in --out.")] = False,
     spawn: Annotated[bool, typer.Option("--spawn", help="Open a Rerun viewer with live losses and a held-out clip.")] = False,
     rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Save the live view to this .rrd file.")] = None,
@@ -140,17 +138,16 @@ def train(
 ) -> None:
     """Train the autoencoder and the LSTM on recordings; print held-out metrics beside baselines.
 
+    \b
     Example: softarm train recordings/seed0.mcap --rrd recordings/train.rrd
     """
-    from cli.tables import metrics_table
-    from softarm.train import check_train_outputs
+    from softarm_cli.tables import metrics_table
 
     overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.history": history,
                  "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
-    out_file = out_path or Path("recordings") / f"{recordings[0].stem}.pt"
-    run_or_exit(lambda: check_train_outputs(out_file, rrd, resume=resume, force=force))
-    result = train_with_progress(recordings, cfg, out_file, resume=resume, spawn=spawn, rrd=rrd, quiet=quiet)
+    result = train_with_progress(recordings, cfg, out_path, resume=resume, force=force, spawn=spawn, rrd=rrd,
+                                 quiet=quiet)
     if not result.complete:
         if result.checkpoint.exists():
             err.print(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "
@@ -166,25 +163,26 @@ def train(
 
 @app.command()
 def replay(
-    checkpoint: Annotated[Path, typer.Argument(help="Checkpoint from `softarm train`.")],
-    recording: Annotated[Path, typer.Argument(help="Recording (.mcap) to imagine; any seed, offset or amplitude.")],
+    checkpoint: Annotated[Path, typer.Argument(metavar="CHECKPOINT", help="Checkpoint from `softarm train`.")],
+    recording: Annotated[Path, typer.Argument(metavar="RECORDING", help="Recording (.mcap) to imagine; any seed, offset or amplitude.")],
     rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Write the Rerun timeline (camera | imagined | difference | fused, signals, IoU).")] = None,
     mcap: Annotated[Optional[Path], typer.Option("--mcap", help="Write the imagination as MCAP (/imagination/image, /imagination/iou).")] = None,
     png: Annotated[Optional[Path], typer.Option("--png", help="Write a filmstrip: camera / imagined / difference at evenly spaced times.")] = None,
-    blind: Annotated[Optional[list[str]], typer.Option("--blind", help="Camera blackout START:END in seconds (repeatable); metrics split blind / seeing.")] = None,
+    blind: Annotated[Optional[list[str]], typer.Option("--blind", metavar="START:END", help="Camera blackout START:END in seconds (repeatable); metrics split blind / seeing.")] = None,
     spawn: Annotated[bool, typer.Option("--spawn", help="Show the timeline in a Rerun viewer.")] = False,
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing outputs.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No metrics table.")] = False,
 ) -> None:
     """Imagine a recording frame by frame from its stretch sensors and compare with the camera.
 
-    Example: softarm replay recordings/seed0.pt recordings/seed0.mcap --blind 95:100 --rrd recordings/replay.rrd --png recordings/replay.png
+    \b
+    Example: softarm replay recordings/seed0.pt recordings/seed0.mcap --blind 95:100 --rrd recordings/replay.rrd
     """
-    from cli.tables import replay_table
-    from softarm.replay_outputs import write_replay
+    from softarm.imagine.run import replay as run_replay
+    from softarm_cli.tables import replay_table
 
-    result = run_or_exit(lambda: write_replay(checkpoint, recording, blind or [], rrd=rrd, mcap=mcap, png=png,
-                                              spawn=spawn, force=force))
+    result = run_or_exit(lambda: run_replay(checkpoint, recording, blind or [], rrd=rrd, mcap=mcap, png=png,
+                                            spawn=spawn, force=force))
     if not quiet:
         out.print(replay_table(result.metrics))
         written = ", ".join(str(p) for p in (rrd, mcap, png) if p is not None)
@@ -199,30 +197,31 @@ def demo(
 ) -> None:
     """The whole pipeline on defaults: simulate 100 s, train, replay with a 5 s camera blackout.
 
+    \b
     Example: softarm demo
     """
-    from cli.tables import metrics_table, replay_table
-    from softarm.replay_outputs import write_replay
-    from softarm.sim import simulate
-    from softarm.train import check_train_outputs
+    from softarm.imagine.run import replay as run_replay
+    from softarm.learn.run import check_train_outputs
+    from softarm.sim.run import simulate
+    from softarm_cli.tables import metrics_table, replay_table
 
     cfg = load_config()
-    source, ckpt = folder / "seed0.mcap", folder / "model.pt"
-    run_or_exit(lambda: check_train_outputs(ckpt, folder / "train.rrd", resume=False, force=force))
+    source, ckpt, view = folder / "seed0.mcap", folder / "model.pt", folder / "train.rrd"
+    run_or_exit(lambda: check_train_outputs(ckpt, view, resume=False, force=force))
     with LazyProgress(err, "simulating", cfg.n_frames, "frames") as bar:
         simulated = run_or_exit(lambda: simulate(cfg, source, force=force, progress=bar.update))
     if not simulated.complete:
         err.print(f"interrupted: kept {simulated.frames} frames in {source}; the demo stops here", markup=False)
         raise typer.Exit(130)
-    trained = train_with_progress([source], cfg, ckpt, resume=False, spawn=False, rrd=folder / "train.rrd", quiet=False)
+    trained = train_with_progress([source], cfg, ckpt, force=force, rrd=view)
     if not trained.complete:
         err.print(f"interrupted: {ckpt} holds the last finished epoch; the demo stops here", markup=False)
         raise typer.Exit(130)
     out.print(metrics_table(trained.metrics))
     outputs = {"rrd": folder / "replay.rrd", "mcap": folder / "imagination.mcap", "png": folder / "filmstrip.png"}
-    result = run_or_exit(lambda: write_replay(ckpt, source, ["95:100"], force=True, **outputs))
+    result = run_or_exit(lambda: run_replay(ckpt, source, ["95:100"], force=True, **outputs))
     out.print(replay_table(result.metrics))
-    for label, path in [("recording", source), ("checkpoint", ckpt), ("training view", folder / "train.rrd"),
+    for label, path in [("recording", source), ("checkpoint", ckpt), ("training view", view),
                         *[(f"replay {k}", v) for k, v in outputs.items()]]:
         out.print(f"{label:>15}: {path}", markup=False)
     out.print(f"open the timelines with: rerun {outputs['rrd']}", markup=False)

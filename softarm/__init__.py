@@ -1,8 +1,47 @@
-"""softarm: a simulated soft arm that learns to picture its own body from its stretch sensors."""
+"""softarm: a simulated soft arm that learns to picture its own body from its stretch sensors.
 
+The data path, one stage per subpackage: `arm` (the body as arrays) -> `sim` (Taichi physics and
+camera) -> `record` (MCAP) -> `learn` (autoencoder + LSTM) -> `imagine` (replay) -> `view` (Rerun, PNG).
+
+From a notebook::
+
+    import softarm
+    result = softarm.simulate(softarm.load_config(), "arm.mcap")
+    trained = softarm.train(["arm.mcap"], out="arm.pt")
+    replayed = softarm.replay("arm.pt", "arm.mcap", rrd="replay.rrd")
+
+Importing softarm is cheap: Taichi, torch and rerun load when a function first needs them.
+"""
+
+import importlib
 import os
+from typing import Any
 
 # Taichi prints a banner on import; softarm's output is its own (the CLI's --quiet must mean quiet).
 os.environ.setdefault("ENABLE_TAICHI_HEADER_PRINT", "false")
 
 __version__ = "0.1.0"
+
+_API = {
+    "load_config": "softarm.config",
+    "Config": "softarm.config",
+    "SoftarmError": "softarm.errors",
+    "simulate": "softarm.sim.run",
+    "read_recording": "softarm.record.reader",
+    "train": "softarm.learn.run",
+    "replay": "softarm.imagine.run",
+}
+__all__ = list(_API)
+
+
+def __getattr__(name: str) -> Any:
+    """Load a public function's stage on first use (PEP 562), so `import softarm` stays light."""
+    if name not in _API:
+        raise AttributeError(f"module 'softarm' has no attribute {name!r}")
+    value = getattr(importlib.import_module(_API[name]), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *__all__])

@@ -1,7 +1,7 @@
 import pytest
 
 from softarm.config import load_config
-from softarm.runtime import init_taichi
+from softarm.sim.runtime import init_taichi
 
 TINY = {"train.epochs_ae": 10, "train.epochs_lstm": 12, "train.batch_ae": 32, "train.latent": 8,
         "train.lstm_hidden": 32, "train.lr_ae": 0.003}
@@ -16,7 +16,7 @@ def taichi_on_cpu():
 @pytest.fixture(scope="session")
 def recordings(tmp_path_factory):
     """Two 4 s recordings (seeds 0 and 1) and a 1 s one with 3 sensors."""
-    from softarm.sim import simulate
+    from softarm.sim.run import simulate
 
     folder = tmp_path_factory.mktemp("rec")
     for seed in (0, 1):
@@ -28,7 +28,8 @@ def recordings(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def tiny_checkpoint(recordings, tmp_path_factory):
-    """A few seconds of training on the 4 s seed-0 recording."""
-    from softarm.train import train
+    """A few seconds of training on the 4 s seed-0 recording, its live view saved beside it as tiny.rrd."""
+    from softarm.learn.run import train
 
-    return train([recordings / "s0.mcap"], load_config(overrides=TINY), tmp_path_factory.mktemp("ckpt") / "tiny.pt")
+    folder = tmp_path_factory.mktemp("ckpt")
+    return train([recordings / "s0.mcap"], load_config(overrides=TINY), folder / "tiny.pt", rrd=folder / "tiny.rrd")

@@ -7,8 +7,8 @@ with w0 = sqrt(k / m), zeta = b / (2 sqrt(k m)) and w_d = w0 sqrt(1 - zeta^2).
 
 import numpy as np
 
-from softarm.body import Body
-from softarm.excitation import Drive
+from softarm.arm.body import Body
+from softarm.arm.drive import Drive
 
 STIFFNESS, DAMPING, MASS, REST_LENGTH = 1000.0, 0.9, 0.01, 0.01
 STILL = Drive(amplitude=0.0, frequencies=(2.11, 3.73, 4.33), time_offset=0.0)

@@ -1,0 +1,40 @@
+"""The arms of a run as they start: one body, one drive and one start state per seed.
+
+`simulate`, the tests and the benchmarks all start arms through `arm_batch`, so a test's arm is
+exactly the arm a real run would record.
+"""
+
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+
+from softarm.arm.body import Body, build_body
+from softarm.arm.drive import Drive, drive_for_seed
+from softarm.arm.statics import check_step, hanging_equilibrium, initial_state
+from softarm.config import Config
+
+
+@dataclass(frozen=True)
+class ArmBatch:
+    body: Body
+    seeds: list[int]
+    drives: list[Drive]
+    positions: np.ndarray   # (arms, N, 2) at t = 0, m
+    velocities: np.ndarray  # (arms, N, 2) at t = 0, m/s
+
+    @property
+    def arms(self) -> int:
+        return len(self.seeds)
+
+
+def arm_batch(config: Config, seeds: Optional[Sequence[int]] = None) -> ArmBatch:
+    """The run's arms (seeds run.seed .. run.seed + arms - 1 unless given), with the step checked for stability."""
+    body = build_body(config)
+    check_step(config, body)
+    seeds = list(seeds) if seeds is not None else [config.run.seed + i for i in range(config.run.arms)]
+    drives = [drive_for_seed(config.excitation, s) for s in seeds]
+    hanging = hanging_equilibrium(body)
+    starts = [initial_state(hanging, float(d.displacement(0.0)), float(d.velocity(0.0))) for d in drives]
+    return ArmBatch(body=body, seeds=seeds, drives=drives, positions=np.stack([p for p, _ in starts]),
+                    velocities=np.stack([v for _, v in starts]))

@@ -1,0 +1,59 @@
+"""A plain float64 NumPy implementation of docs/model.md, independent of the Taichi simulator.
+
+It exists to check `softarm.sim.physics` (tests) and to give the benchmark a baseline: the forces are
+written out again here from the equations of docs/model.md, not taken from `statics.py`, so a slip in one
+implementation shows up as a disagreement with the other. One arm, readable over fast.
+"""
+
+import numpy as np
+
+from softarm.arm.body import Body
+from softarm.arm.drive import Drive
+
+
+def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velocities: np.ndarray,
+                       frame_dt: float, substeps: int, n_frames: int) -> np.ndarray:
+    """(n_frames, N, 2) positions at t_k = k * frame_dt, k = 0..n_frames-1; frame 0 is the given state.
+
+    Semi-implicit (symplectic) Euler with `substeps` steps per frame: forces at the current state,
+    then v += h F / m on the free nodes, then x += h v with the new v; after each step the driven
+    nodes are put at rest + (f(t), 0) with velocity (f'(t), 0).
+    """
+    x = np.array(positions, dtype=np.float64)
+    v = np.array(velocities, dtype=np.float64)
+    i, j = body.springs[:, 0], body.springs[:, 1]
+    free = np.ones(len(x), bool)
+    free[body.driven] = False
+    inverse_mass = 1.0 / body.masses[free][:, None]
+    weight = body.masses[:, None] * body.gravity[None, :]
+    h = frame_dt / substeps
+
+    out = np.empty((n_frames,) + x.shape)
+    for k in range(n_frames):
+        out[k] = x
+        if k == n_frames - 1:
+            break
+        for s in range(substeps):
+            force = _spring_damper_forces(x, v, i, j, body.rest_lengths, body.stiffness, body.damping) + weight
+            v[free] += h * force[free] * inverse_mass
+            x[free] += h * v[free]
+            t_next = ((k * substeps + s + 1) / substeps) * frame_dt
+            x[body.driven] = body.rest[body.driven] + [drive.displacement(t_next), 0.0]
+            v[body.driven] = [drive.velocity(t_next), 0.0]
+    return out
+
+
+def _spring_damper_forces(x: np.ndarray, v: np.ndarray, i: np.ndarray, j: np.ndarray, rest_length: np.ndarray,
+                          stiffness: np.ndarray, damping: np.ndarray) -> np.ndarray:
+    """Per spring (i, j): f = (k (L - L0) + b (v_j - v_i) . u) u pulls i towards j; j gets -f."""
+    d = x[j] - x[i]
+    length = np.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2)
+    u = d / length[:, None]
+    stretch_rate = ((v[j] - v[i]) * u).sum(axis=1)
+    f = (stiffness * (length - rest_length) + damping * stretch_rate)[:, None] * u
+    n = len(x)
+    force = np.empty_like(x)
+    for axis in (0, 1):
+        force[:, axis] = (np.bincount(i, weights=f[:, axis], minlength=n)
+                          - np.bincount(j, weights=f[:, axis], minlength=n))
+    return force

@@ -1,0 +1,107 @@
+"""The arm at rest and at the edge of stability: hanging equilibrium, start state, largest stable step.
+
+Everything here is float64 NumPy, computed once per run before any stepping (docs/model.md, Initial
+state; Stability and blow-up).
+"""
+
+import numpy as np
+
+from softarm.arm.body import Body
+from softarm.config import Config
+from softarm.errors import ConfigError
+
+
+def spring_forces(body: Body, positions: np.ndarray, velocities: np.ndarray) -> np.ndarray:
+    """Net spring and damper force on every node (docs/model.md, Forces), float64; no gravity."""
+    i, j = body.springs[:, 0], body.springs[:, 1]
+    d = positions[j] - positions[i]
+    length = np.linalg.norm(d, axis=1)
+    u = d / length[:, None]
+    rate = np.einsum("sk,sk->s", velocities[j] - velocities[i], u)
+    f = (body.stiffness * (length - body.rest_lengths) + body.damping * rate)[:, None] * u
+    out = np.zeros_like(positions)
+    np.add.at(out, i, f)
+    np.add.at(out, j, -f)
+    return out
+
+
+def hanging_equilibrium(body: Body, tolerance: float = 1e-11, max_iterations: int = 50) -> np.ndarray:
+    """Positions where the springs hold the free nodes still against gravity, driven nodes at rest.
+
+    The run starts here (at rest, f(0) = f'(0) = 0), so it shows the excitation's motion rather than
+    the arm dropping from its unstretched layout. Newton's method on the free nodes, float64.
+    """
+    free = np.flatnonzero(body.free)
+    x = body.rest.copy()
+    zero = np.zeros_like(x)
+    for _ in range(max_iterations):
+        residual = spring_forces(body, x, zero) + body.masses[:, None] * body.gravity
+        r = residual[free].ravel()
+        if np.abs(r).max() < tolerance:
+            return x
+        step = np.linalg.solve(_stiffness_matrix(body, x)[np.ix_(_dofs(free), _dofs(free))], r)
+        x[free] += step.reshape(-1, 2)
+    raise ConfigError("the arm has no hanging equilibrium under gravity (Newton's method did not converge): "
+                      "check body.node_mass, springs.stiffness and body.gravity")
+
+
+def _dofs(nodes: np.ndarray) -> np.ndarray:
+    return np.stack([2 * nodes, 2 * nodes + 1], 1).ravel()
+
+
+def _stiffness_matrix(body: Body, x: np.ndarray) -> np.ndarray:
+    """-dF/dx of the spring forces at positions x (2N x 2N), for Newton's method."""
+    n = body.n_nodes
+    K = np.zeros((2 * n, 2 * n))
+    for (i, j), k, l0 in zip(body.springs, body.stiffness, body.rest_lengths):
+        d = x[j] - x[i]
+        length = np.linalg.norm(d)
+        u = d / length
+        block = k * (np.outer(u, u) + (1 - l0 / length) * (np.eye(2) - np.outer(u, u)))
+        for a, b_, sign in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
+            K[2 * a:2 * a + 2, 2 * b_:2 * b_ + 2] += sign * block
+    return K
+
+
+def max_stable_substep(body: Body) -> float:
+    """Largest symplectic-Euler step that is stable for every mode, by a Gershgorin bound.
+
+    A mode x'' = -w^2 x - g x' stepped by semi-implicit Euler with step h is stable when
+    h^2 w^2 + 2 g h < 4. Gershgorin bounds w^2 by max_i 2 sum(k)/m_i and g by max_i 2 sum(b)/m_i
+    over the springs touching each free node; the bound is safe, not tight.
+    """
+    free = body.free
+    k_sum = np.zeros(body.n_nodes)
+    b_sum = np.zeros(body.n_nodes)
+    for col in (0, 1):
+        np.add.at(k_sum, body.springs[:, col], body.stiffness)
+        np.add.at(b_sum, body.springs[:, col], body.damping)
+    w2 = np.max(2 * k_sum[free] / body.masses[free])
+    g = np.max(2 * b_sum[free] / body.masses[free])
+    return float((-2 * g + np.sqrt(4 * g * g + 16 * w2)) / (2 * w2))
+
+
+def initial_state(hanging: np.ndarray, displacement: float, velocity: float) -> tuple[np.ndarray, np.ndarray]:
+    """Start state for a drive that is at (f(t0), f'(t0)) at t = 0.
+
+    Gravity is vertical, so the hanging equilibrium shifted sideways by f(t0) is still an
+    equilibrium; giving every node the top's velocity f'(t0) makes the whole arm move with the drive
+    at t = 0 instead of being jerked by it. For the paper's run (t0 = 0) this is the plain hanging arm.
+    """
+    positions = hanging + np.array([displacement, 0.0])
+    velocities = np.zeros_like(hanging)
+    velocities[:, 0] = velocity
+    return positions, velocities
+
+
+def check_step(config: Config, body: Body) -> None:
+    """Refuse a substep above the stability limit of semi-implicit Euler, naming the substeps that work."""
+    h_max = max_stable_substep(body)
+    dt = config.integration.frame_dt
+    substeps = config.integration.substeps
+    if dt / substeps > h_max:
+        needed = int(np.ceil(dt / h_max))
+        raise ConfigError(
+            f"config key 'integration.substeps' = {substeps} is unstable: a step of {1e3 * dt / substeps:.3g} ms "
+            f"exceeds the stability limit {1e3 * h_max:.3g} ms of these springs and masses; "
+            f"use integration.substeps >= {needed} (or --substeps {needed})")

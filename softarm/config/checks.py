@@ -1,0 +1,53 @@
+"""Ranges every simulation and training needs to be meaningful, with messages that name the key."""
+
+from typing import Any
+
+from softarm.config.schema import Config
+from softarm.errors import ConfigError
+
+INTEGRATORS = ("symplectic_euler",)
+
+
+def _require(ok: bool, key: str, value: Any, allowed: str) -> None:
+    if not ok:
+        raise ConfigError(f"config key '{key}' = {value!r} is out of range: {allowed}")
+
+
+def check_ranges(c: Config) -> None:
+    """Values every simulation needs to be meaningful; node indices are checked against the body."""
+    b, e, cam, i, r = c.body, c.excitation, c.camera, c.integration, c.run
+    _require(b.rows >= 2, "body.rows", b.rows, "must be at least 2 (one driven row and one free row)")
+    _require(b.columns >= 2, "body.columns", b.columns, "must be at least 2")
+    for key in ("length", "base_width", "tip_width", "node_mass"):
+        value = getattr(b, key)
+        _require(value > 0, f"body.{key}", value, "must be > 0")
+    _require(c.springs.stiffness > 0, "springs.stiffness", c.springs.stiffness, "must be > 0")
+    _require(c.springs.damping >= 0, "springs.damping", c.springs.damping, "must be >= 0")
+    _require(e.amplitude >= 0, "excitation.amplitude", e.amplitude, "must be >= 0")
+    _require(len(e.frequencies) >= 1, "excitation.frequencies", list(e.frequencies), "must list at least one frequency")
+    _require(e.offset_range >= 0, "excitation.offset_range", e.offset_range, "must be >= 0")
+    _require(0 <= e.amplitude_jitter < 1, "excitation.amplitude_jitter", e.amplitude_jitter, "must be in [0, 1)")
+    _require(len(c.sensors.pairs) >= 1, "sensors.pairs", [], "must list at least one [a, b] node pair")
+    for k, (a, bb) in enumerate(c.sensors.pairs):
+        _require(a != bb, f"sensors.pairs[{k}]", [a, bb], "a sensor must join two different nodes")
+    _require(cam.width >= 1, "camera.width", cam.width, "must be >= 1")
+    _require(cam.height >= 1, "camera.height", cam.height, "must be >= 1")
+    _require(cam.pixels_per_metre > 0, "camera.pixels_per_metre", cam.pixels_per_metre, "must be > 0")
+    _require(i.frame_dt > 0, "integration.frame_dt", i.frame_dt, "must be > 0 (the frame rate is 1 / frame_dt)")
+    _require(i.substeps >= 1, "integration.substeps", i.substeps, "must be >= 1")
+    _require(i.integrator in INTEGRATORS, "integration.integrator", i.integrator, f"must be one of {list(INTEGRATORS)}")
+    _require(i.blowup_distance > 0, "integration.blowup_distance", i.blowup_distance, "must be > 0")
+    _require(r.duration > 0, "run.duration", r.duration, "must be > 0")
+    _require(c.n_frames >= 1, "run.duration", r.duration, f"must cover at least one frame of {i.frame_dt} s")
+    _require(r.arms >= 1, "run.arms", r.arms, "must be >= 1")
+    _require(r.seed >= 0, "run.seed", r.seed, "must be >= 0")
+    t = c.train
+    _require(0 < t.train_fraction < 1, "train.train_fraction", t.train_fraction, "must be in (0, 1)")
+    _require(0 < t.test_fraction and t.train_fraction + t.test_fraction < 1, "train.test_fraction",
+             t.test_fraction, "must be > 0 and leave room for the imagination segment")
+    for key in ("latent", "history", "epochs_ae", "epochs_lstm", "batch_ae", "batch_lstm", "lstm_hidden"):
+        _require(getattr(t, key) >= 1, f"train.{key}", getattr(t, key), "must be >= 1")
+    for key in ("lr_ae", "lr_lstm"):
+        _require(getattr(t, key) > 0, f"train.{key}", getattr(t, key), "must be > 0")
+    _require(0 <= t.min_feature_std < 1, "train.min_feature_std", t.min_feature_std, "must be in [0, 1)")
+    _require(t.seed >= 0, "train.seed", t.seed, "must be >= 0")

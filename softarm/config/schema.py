@@ -1,0 +1,117 @@
+"""Which config keys exist and what type each has: one frozen dataclass per TOML section.
+
+The values live in `default.toml` beside this module (print it with `softarm config`); these classes
+hold no defaults of their own, so the TOML file is the one source of truth.
+"""
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any, Union
+
+
+@dataclass(frozen=True)
+class BodyConfig:
+    rows: int
+    columns: int
+    length: float
+    base_width: float
+    tip_width: float
+    node_mass: float
+    gravity: tuple[float, float]
+    driven: Union[tuple[int, ...], None] = None
+
+
+@dataclass(frozen=True)
+class SpringsConfig:
+    stiffness: float
+    damping: float
+
+
+@dataclass(frozen=True)
+class ExcitationConfig:
+    amplitude: float
+    frequencies: tuple[float, ...]
+    time_offset: float
+    offset_range: float
+    amplitude_jitter: float
+
+
+@dataclass(frozen=True)
+class SensorsConfig:
+    pairs: tuple[tuple[int, int], ...]
+
+
+@dataclass(frozen=True)
+class CameraConfig:
+    width: int
+    height: int
+    pixels_per_metre: float
+    origin: tuple[float, float]
+    outline: Union[tuple[int, ...], None] = None
+
+
+@dataclass(frozen=True)
+class IntegrationConfig:
+    frame_dt: float
+    substeps: int
+    integrator: str
+    blowup_distance: float
+
+
+@dataclass(frozen=True)
+class RunConfig:
+    duration: float
+    arms: int
+    seed: int
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    train_fraction: float
+    test_fraction: float
+    latent: int
+    history: int
+    include_current: bool
+    epochs_ae: int
+    epochs_lstm: int
+    batch_ae: int
+    batch_lstm: int
+    lr_ae: float
+    lr_lstm: float
+    lstm_hidden: int
+    min_feature_std: float
+    seed: int
+
+
+@dataclass(frozen=True)
+class Config:
+    body: BodyConfig
+    springs: SpringsConfig
+    excitation: ExcitationConfig
+    sensors: SensorsConfig
+    camera: CameraConfig
+    integration: IntegrationConfig
+    run: RunConfig
+    train: TrainConfig
+
+    @property
+    def n_frames(self) -> int:
+        return round(self.run.duration / self.integration.frame_dt)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain nested dict (lists, no tuples, no unset optional keys): the form written to recordings."""
+        return _plain(dataclasses.asdict(self))
+
+    def replace(self, **dotted: Any) -> "Config":
+        """A copy with some keys changed, e.g. `replace(**{"run.seed": 3})`; validated like a file."""
+        from softarm.config.load import config_from_dict, merge, nest
+
+        return config_from_dict(merge(self.to_dict(), nest(dotted)))
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items() if v is not None}
+    if isinstance(value, (tuple, list)):
+        return [_plain(v) for v in value]
+    return value

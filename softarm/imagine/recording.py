@@ -1,0 +1,50 @@
+"""Writes a replay's imagination as MCAP: any MCAP reader shows it beside the source recording.
+
+`/imagination/image`: foxglove.RawImage, mono8, pixel probability x 255; `/imagination/iou`: JSON
+(jsonschema) with the frame's IoU against the camera. Log times equal the source frames' times, so
+both files line up on one timeline; metadata `softarm.imagination` names the checkpoint and the
+source recording (with their SHA-256 fingerprints).
+"""
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Union
+
+import numpy as np
+import orjson
+
+from softarm.files import fingerprint
+from softarm.record.mcap_file import McapFile
+from softarm.record.format import json_schema
+
+if TYPE_CHECKING:
+    from softarm.imagine.replay import Replay
+
+IMAGE = "/imagination/image"
+IOU = "/imagination/iou"
+FORMAT = "softarm-imagination/1"
+META = "softarm.imagination"
+IOU_SCHEMA = ("softarm.ImaginationIoU", json_schema(
+    "softarm.ImaginationIoU", "Intersection over union of the imagined frame (thresholded at 0.5) and the camera frame",
+    {"iou": {"type": "number", "minimum": 0, "maximum": 1}, "blind": {"type": "boolean",
+                                                                       "description": "camera blacked out"}}))
+
+
+def write_imagination(result: "Replay", path: Union[str, Path], imagined_bytes: np.ndarray) -> Path:
+    """One message per imagined frame on each topic (`imagined_bytes`: the frames as grey bytes);
+    nothing is left behind if writing fails."""
+    mcap = McapFile(Path(path), (IMAGE,), {IOU: IOU_SCHEMA})
+    try:
+        height, width = result.imagined.shape[1:]
+        pixels = imagined_bytes.reshape(len(result.imagined), -1)
+        for k in np.flatnonzero(result.predicted):
+            ns = int(round(result.times[k] * 1e9))
+            mcap.add_image(IMAGE, ns, pixels[k].tobytes(), height, width, "camera")
+            mcap.add(IOU, ns, orjson.dumps({"t": ns / 1e9, "iou": float(result.iou[k]), "blind": bool(result.blind[k])}))
+        source = result.recording.path
+        return mcap.close({META: {
+            "format": FORMAT, "checkpoint": str(result.checkpoint), "checkpoint_sha256": fingerprint(result.checkpoint),
+            "source_recording": str(source), "source_sha256": fingerprint(source),
+            "metrics": orjson.dumps(result.metrics).decode()}})
+    except BaseException:
+        mcap.discard()
+        raise

@@ -1,0 +1,73 @@
+"""Replay: what the arm imagines over a whole recording, beside what the camera saw.
+
+`compute_replay()` computes everything a viewer or file needs (imagined frames, per-frame IoU, the
+fused view of camera blackouts, metrics); `softarm.view` and `softarm.imagine.recording` only write
+it out.
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+
+from softarm.learn.checkpoint import load_checkpoint
+from softarm.imagine.blind import blind_mask, fused_scores
+from softarm.imagine.imaginer import Imaginer
+from softarm.learn.fits import check_recording_fits_checkpoint
+from softarm.learn.metrics import frame_scores, summarise
+from softarm.record.reader import Recording, read_model, read_recording
+
+
+@dataclass(frozen=True)
+class Replay:
+    recording: Recording
+    checkpoint: Path
+    imagined: np.ndarray   # (T, H, W) probabilities; 0 where nothing is imagined yet
+    predicted: np.ndarray  # (T,) bool: frames with an imagination (all but the first history (+1) ones)
+    iou: np.ndarray        # (T,) imagination IoU per frame, NaN where nothing is imagined
+    blind: np.ndarray      # (T,) bool: camera blacked out
+    fused: np.ndarray      # (T, H, W): the camera where it sees, the imagination where it is blind
+    nodes_px: Optional[np.ndarray]  # (T, N, 2) node positions in pixel coordinates [u, v], if read
+    metrics: dict[str, Any]
+
+    @property
+    def times(self) -> np.ndarray:
+        return self.recording.times
+
+
+def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
+           blind: Sequence[tuple[float, float]] = (), nodes: bool = True) -> Replay:
+    """Imagine every frame of `recording` from its stretch signals and score it against the camera.
+
+    nodes=False skips the node positions (only the Rerun view draws them; they are a third of the reading).
+    """
+    checkpoint = Path(checkpoint)
+    state = load_checkpoint(checkpoint)
+    check_recording_fits_checkpoint(state, read_model(recording), str(recording), str(checkpoint))
+    rec = read_recording(recording, nodes=nodes)
+    mask = blind_mask(rec.times, blind)
+    imaginer = Imaginer.from_checkpoint(state)
+    targets, probs = imaginer.imagine(rec.stretch)
+    imagined = np.zeros(rec.frames.shape, np.float32)
+    imagined[targets] = probs
+    predicted = np.zeros(len(rec.times), bool)
+    predicted[targets] = True
+    fused = rec.frames.astype(np.float32)
+    fused[mask] = imagined[mask]
+    M = np.array(rec.model["camera"]["world_to_pixel"])
+    ppm = float(np.hypot(*M[:, 0]))
+    imagination = frame_scores(imagined, rec.frames, ppm)
+    iou = np.where(predicted, imagination["iou"], np.nan)
+    last = rec.times >= rec.times[-1] - 5.0 + 1e-9  # the paper's last 5 s
+    metrics = {
+        "recording": str(rec.path), "frames": int(len(rec.times)), "predicted_frames": int(predicted.sum()),
+        "blind_frames": int(mask.sum()),
+        **{key: summarise(imagination, predicted & subset) if (predicted & subset).any() else None
+           for key, subset in (("imagination", predicted), ("imagination_last_5s", last),
+                               ("imagination_blind", mask), ("imagination_seeing", ~mask))},
+        "fused": summarise(fused_scores(imagination, rec.frames, mask)),
+    }
+    return Replay(recording=rec, checkpoint=checkpoint, imagined=imagined, predicted=predicted, iou=iou,
+                  blind=mask, fused=fused, metrics=metrics,
+                  nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if nodes else None)

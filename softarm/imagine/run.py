@@ -1,0 +1,68 @@
+"""`softarm replay` as one call: check outputs, imagine the recording, then write the .rrd, MCAP and PNG asked for.
+
+Light to import: torch loads when `replay()` first runs, rerun and PIL only when a timeline or a
+picture is asked for.
+"""
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Optional, Sequence, Union
+
+from softarm.errors import OutputError
+from softarm.files import check_outputs
+from softarm.imagine.blind import parse_blind
+from softarm.imagine.recording import write_imagination
+
+if TYPE_CHECKING:
+    from softarm.imagine.replay import Replay
+
+PathLike = Union[str, Path]
+
+
+@dataclass(frozen=True)
+class ReplayOutcome:
+    replay: "Replay"
+    wall_seconds: float
+
+    @property
+    def metrics(self) -> dict[str, Any]:
+        return self.replay.metrics
+
+    @property
+    def real_time_factor(self) -> float:
+        return len(self.replay.times) * self.replay.recording.frame_dt / self.wall_seconds
+
+
+def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (), rrd: Optional[PathLike] = None,
+           mcap: Optional[PathLike] = None, png: Optional[PathLike] = None, spawn: bool = False,
+           force: bool = False) -> ReplayOutcome:
+    """Imagine every frame of `recording` with `checkpoint` and score it; write the outputs asked for.
+
+    `blind` takes camera blackouts as 'START:END' seconds. Every output is checked before the replay
+    starts, so a refused path costs nothing; each is written whole or not at all.
+    """
+    from softarm.imagine.replay import compute_replay  # torch loads here, not when softarm is imported
+
+    start = time.perf_counter()
+    outputs = [Path(p) for p in (rrd, mcap, png) if p is not None]
+    if len(set(outputs)) != len(outputs):
+        raise OutputError("--rrd, --mcap and --png must name different files")
+    check_outputs(outputs, force)
+    timeline = rrd is not None or spawn
+    result = compute_replay(checkpoint, recording, parse_blind(blind), nodes=timeline)
+    if timeline or mcap is not None:
+        from softarm.view.images import probability_bytes
+
+        imagined_bytes = probability_bytes(result.imagined)  # once, for every writer that shows them
+    if timeline:
+        from softarm.view.replay_view import log_replay  # rerun is only imported when a timeline is asked for
+
+        log_replay(result, Path(rrd) if rrd is not None else None, spawn=spawn, imagined_bytes=imagined_bytes)
+    if mcap is not None:
+        write_imagination(result, mcap, imagined_bytes)
+    if png is not None:
+        from softarm.view.filmstrip import replay_filmstrip, save_png  # PIL only when a picture is asked for
+
+        save_png(replay_filmstrip(result), png)
+    return ReplayOutcome(result, time.perf_counter() - start)

@@ -1,0 +1,41 @@
+"""Checkpoint files: one torch file of plain tensors, numbers and strings.
+
+Everything in it loads with `torch.load(path, weights_only=True)`: the state dicts, the config, the
+feature filter and normalisation, the fingerprints of the recordings it was trained on, how far
+training got (for --resume) and the metrics. It is written to `<name>.part` and renamed, so a
+checkpoint on disk is always whole.
+"""
+
+import pickle
+import zipfile
+from pathlib import Path
+from typing import Any, Union
+
+import torch
+
+from softarm.errors import CheckpointError
+from softarm.files import atomic_path
+
+FORMAT = "softarm-checkpoint/1"
+
+
+def save_checkpoint(path: Union[str, Path], state: dict[str, Any]) -> Path:
+    """Write atomically: an interruption leaves the previous epoch's checkpoint, never half of a new one."""
+    with atomic_path(Path(path)) as part:
+        torch.save({"format": FORMAT, **state}, part)
+    return Path(path)
+
+
+def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:
+    """The checkpoint's contents; a missing, foreign or damaged file raises CheckpointError."""
+    path = Path(path)
+    if not path.is_file():
+        raise CheckpointError(f"checkpoint {path} not found" if not path.exists() else f"{path} is not a file")
+    try:
+        state = torch.load(path, map_location="cpu", weights_only=True)
+    except (pickle.UnpicklingError, zipfile.BadZipFile, RuntimeError, EOFError, ValueError) as e:
+        raise CheckpointError(f"{path} is not a softarm checkpoint ({type(e).__name__}: "
+                              f"{str(e).splitlines()[0][:120] if str(e) else 'unreadable'})") from None
+    if not isinstance(state, dict) or state.get("format") != FORMAT:
+        raise CheckpointError(f"{path} is not a softarm checkpoint (expected format {FORMAT})")
+    return state

@@ -1,0 +1,33 @@
+"""Latent codes of every recording, encoded once by the trained autoencoder and then indexed.
+
+Sixteen numbers a frame replace stacked copies of the target frames for every later use: the LSTM's
+training pairs, the scalers, the ridge baseline and the metrics.
+"""
+
+import numpy as np
+import torch
+
+from softarm.imagine.imaginer import BATCH
+from softarm.learn.dataset import Dataset
+from softarm.learn.models import Autoencoder
+
+
+@torch.inference_mode()
+def encode_frames(autoencoder: Autoencoder, frames: np.ndarray) -> np.ndarray:
+    """Raw latent codes (M, F) of frames (M, H, W), in batches."""
+    x = torch.from_numpy(frames)
+    return torch.cat([autoencoder.encode(x[i:i + BATCH]) for i in range(0, len(x), BATCH)]).numpy()
+
+
+class LatentCodes:
+    def __init__(self, autoencoder: Autoencoder, data: Dataset):
+        autoencoder.eval()
+        self._codes = [encode_frames(autoencoder, seq.frames) for seq in data.sequences]
+
+    def of(self, targets: np.ndarray) -> np.ndarray:
+        """Raw codes (M, F) of (recording, frame) targets (M, 2), in the order `Dataset.windows` lists them."""
+        return np.concatenate([self._codes[n][targets[targets[:, 0] == n, 1]] for n in range(len(self._codes))])
+
+    def segment(self, data: Dataset, segment: str) -> np.ndarray:
+        """Raw codes of every frame of a segment, all recordings in order."""
+        return np.concatenate([self._codes[n][slice(*seq.segment(segment))] for n, seq in enumerate(data.sequences)])

@@ -1,0 +1,119 @@
+"""Learning data from recordings: frames and stretch, split by time as in the paper.
+
+Each recording is split on its own: the first `train_fraction` of its frames train, the next
+`test_fraction` test the autoencoder (and validate the LSTM), the rest is the imagination segment.
+Stretch windows never straddle a split, so no test target is predicted from training samples.
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Optional, Sequence, Union
+
+import numpy as np
+
+from softarm.config import TrainConfig
+from softarm.errors import RecordingError
+from softarm.files import fingerprint
+from softarm.learn.fits import check_fits
+from softarm.record.reader import read_recording
+
+
+@dataclass(frozen=True)
+class RunData:
+    """One recording's learning arrays."""
+    name: str
+    fingerprint: str            # sha256 of the file, first 16 hex digits
+    frames: np.ndarray          # (T, H, W) uint8 0/1
+    stretch: np.ndarray         # (T, P) float32, m
+    times: np.ndarray           # (T,) s
+    bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
+
+    def segment(self, name: str) -> tuple[int, int]:
+        b0, b1 = self.bounds
+        return {"train": (0, b0), "test": (b0, b1), "imagine": (b1, len(self.times))}[name]
+
+
+@dataclass(frozen=True)
+class Dataset:
+    sequences: list[RunData]
+
+    @property
+    def image_shape(self) -> tuple[int, int]:
+        return self.sequences[0].frames.shape[1:]
+
+    @property
+    def sensor_count(self) -> int:
+        return self.sequences[0].stretch.shape[1]
+
+    def frames(self, segment: str) -> np.ndarray:
+        """(M, H, W) uint8 frames of a segment, all recordings in order (a view for one recording)."""
+        parts = [s.frames[slice(*s.segment(segment))] for s in self.sequences]
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    def windows(self, segment: str, history: int, include_current: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Stretch windows (M, history, P) of a segment, all recordings, and the (recording, frame) each predicts (M, 2)."""
+        inputs, targets = [], []
+        for n, seq in enumerate(self.sequences):
+            start, end = seq.segment(segment)
+            w, k = stretch_windows(seq.stretch, history, include_current, start, end)
+            inputs.append(w)
+            targets.append(np.stack([np.full(len(k), n), k], axis=1))
+        if not sum(map(len, inputs)):
+            raise RecordingError(f"the {segment} segment is shorter than a history of {history} samples")
+        return np.concatenate(inputs), np.concatenate(targets)
+
+    def target_frames(self, targets: np.ndarray) -> np.ndarray:
+        return np.stack([self.sequences[n].frames[k] for n, k in targets])
+
+    def fingerprints(self) -> list[dict]:
+        """Name, SHA-256 (first 16 hex digits) and frame count of each recording: what a checkpoint was trained on."""
+        return [{"name": s.name, "sha256": s.fingerprint, "frames": len(s.times)} for s in self.sequences]
+
+
+def stretch_windows(stretch: np.ndarray, history: int, include_current: bool, start: int = 0,
+                    end: Optional[int] = None) -> tuple[np.ndarray, np.ndarray]:
+    """The windows of stretch[start:end] and the frame index each predicts.
+
+    The window for frame k is samples k-history .. k-1 (the paper's set-up), or k-history+1 .. k with
+    include_current; every sample lies in [start, end), so no window straddles a split.
+    """
+    end = len(stretch) if end is None else end
+    lag = 0 if include_current else 1
+    targets = np.arange(start + history - 1 + lag, end)
+    first = targets - lag - history + 1
+    windows = stretch[first[:, None] + np.arange(history)] if len(targets) else np.zeros((0, history, stretch.shape[1]))
+    return windows, targets
+
+
+def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
+    """Frame indices where test and imagination begin (8500 and 9500 for 10 000 frames)."""
+    return round(n_frames * train.train_fraction), round(n_frames * (train.train_fraction + train.test_fraction))
+
+
+def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig) -> Dataset:
+    """Read recordings (all of one image shape and sensor count) and split each by time."""
+    if not paths:
+        raise RecordingError("give at least one recording")
+    sequences = []
+    for path in map(Path, paths):
+        rec = read_recording(path, nodes=False)
+        seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=rec.frames,
+                        stretch=rec.stretch.astype(np.float32), times=rec.times,
+                        bounds=split_bounds(len(rec.times), train))
+        if sequences:
+            first = sequences[0]
+            check_fits(seq.name, seq.frames.shape[1:], seq.stretch.shape[1], first.frames.shape[1:],
+                       first.stretch.shape[1], first.name)
+        check_segments(seq, train)
+        sequences.append(seq)
+    return Dataset(sequences)
+
+
+def check_segments(seq: RunData, train: TrainConfig) -> None:
+    """Refuse before training a recording whose test or imagination segment holds no stretch window."""
+    needed = train.history + (0 if train.include_current else 1)
+    for name in ("test", "imagine"):
+        start, end = seq.segment(name)
+        if end - start < needed:
+            raise RecordingError(f"{seq.name}: its {name} segment has {end - start} frames, fewer than the "
+                                 f"{needed} a history of {train.history} needs; record longer")

@@ -1,0 +1,88 @@
+"""`softarm train` as one call: check the outputs, train (or resume), evaluate, write checkpoint and metrics.
+
+Light to import: torch loads when `train()` first runs.
+"""
+
+import json
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Optional, Sequence, Union
+
+from softarm.config import Config, load_config
+from softarm.errors import CheckpointError, OutputError
+from softarm.files import atomic_path, check_outputs
+from softarm.interrupt import stop_on_signal
+from softarm.learn.observer import Progress, open_observer
+
+DEFAULT_FOLDER = Path("recordings")
+PathLike = Union[str, Path]
+
+
+@dataclass(frozen=True)
+class TrainResult:
+    checkpoint: Path
+    metrics_path: Optional[Path]
+    metrics: Optional[dict[str, Any]]
+    complete: bool
+    wall_seconds: float
+
+
+def default_checkpoint(recordings: Sequence[PathLike]) -> Path:
+    """recordings/<first recording's stem>.pt"""
+    return DEFAULT_FOLDER / f"{Path(recordings[0]).stem}.pt"
+
+
+def metrics_path_for(checkpoint: Path) -> Path:
+    """The metrics JSON sits beside its checkpoint: model.pt -> model.metrics.json."""
+    return checkpoint.with_suffix(".metrics.json")
+
+
+def check_train_outputs(checkpoint: Path, rrd: Optional[PathLike], resume: bool, force: bool) -> None:
+    """Refuse before any work: a checkpoint that exists (unless resume or force), nothing to resume, bad folders."""
+    checkpoint = Path(checkpoint)
+    if resume and not checkpoint.exists():
+        raise CheckpointError(f"--resume: there is no checkpoint {checkpoint} to continue")
+    if checkpoint.exists() and not (resume or force):
+        raise OutputError(f"checkpoint {checkpoint} already exists; pass --resume to continue it or --force to replace it")
+    check_outputs([checkpoint], force=True)  # folders and permissions; an existing checkpoint is handled above
+    if rrd is not None:
+        check_outputs([Path(rrd)], force)
+
+
+def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: Optional[PathLike] = None,
+          resume: bool = False, force: bool = False, rrd: Optional[PathLike] = None, spawn: bool = False,
+          progress: Optional[Progress] = None, stop: Callable[[], bool] = lambda: False) -> TrainResult:
+    """Train (or with resume, continue) on recordings; write the checkpoint and, at the end, its metrics JSON.
+
+    `rrd` saves and `spawn` shows a live Rerun view. Ctrl-C (or SIGTERM, or `stop()` returning True)
+    ends training within a batch; the checkpoint of the last finished epoch stays (`complete` False).
+    """
+    start = time.perf_counter()
+    out = Path(out) if out is not None else default_checkpoint(recordings)
+    check_train_outputs(out, rrd, resume, force)
+    from softarm.learn.evaluate import evaluate  # torch loads here, not when softarm is imported
+    from softarm.learn.train import fit
+    from softarm.learn.train_state import start_state
+
+    state = start_state(recordings, config if config is not None else load_config(), out, resume)
+    with open_observer(rrd, spawn) as observer, stop_on_signal() as caught:
+        complete = fit(state, out, observer, progress or (lambda *_: None), lambda: bool(caught) or stop())
+    if not complete:
+        return TrainResult(out, None, None, False, time.perf_counter() - start)
+    metrics = evaluate(state)
+    state.save(out, metrics)
+    metrics_file = metrics_path_for(out)
+    with atomic_path(metrics_file) as part:
+        part.write_text(json.dumps(finite_or_null(metrics), indent=1, allow_nan=False))
+    return TrainResult(out, metrics_file, metrics, True, time.perf_counter() - start)
+
+
+def finite_or_null(value: Any) -> Any:
+    """NaN (e.g. a tip error where every frame is empty) as null: strict JSON readers reject NaN."""
+    if isinstance(value, dict):
+        return {k: finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [finite_or_null(v) for v in value]
+    return None if isinstance(value, float) and not math.isfinite(value) else value

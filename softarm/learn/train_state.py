@@ -1,0 +1,119 @@
+"""What a training run holds between epochs, and its round trip through a checkpoint file.
+
+The networks, their optimisers, the feature scalers, the phase and epoch reached and the loss
+history: everything `--resume` needs to continue exactly where a run stopped, and everything replay
+needs to imagine (docs/model.md says what the networks see; `checkpoint` says how the file is kept).
+"""
+
+import dataclasses
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Optional, Sequence, Union
+
+import torch
+
+from softarm import __version__
+from softarm.config import Config, config_from_dict
+from softarm.errors import CheckpointError
+from softarm.learn.codes import LatentCodes
+from softarm.learn.checkpoint import load_checkpoint, save_checkpoint
+from softarm.learn.dataset import Dataset, load_dataset
+from softarm.learn.models import Autoencoder, StretchToLatent
+from softarm.learn.scaler import Scaler
+
+PHASES = ("ae", "lstm", "done")
+
+
+@dataclass
+class TrainState:
+    config: Config
+    data: Dataset
+    autoencoder: Autoencoder
+    ae_optimizer: torch.optim.Optimizer
+    lstm: Optional[StretchToLatent] = None
+    lstm_optimizer: Optional[torch.optim.Optimizer] = None
+    latent_scaler: Optional[Scaler] = None
+    stretch_scaler: Optional[Scaler] = None
+    phase: str = "ae"   # one of PHASES
+    epoch: int = 0      # epochs finished in this phase
+    losses: dict[str, list[float]] = field(
+        default_factory=lambda: {"ae_train": [], "ae_test": [], "lstm_train": [], "lstm_val": []})
+    _codes: Optional[LatentCodes] = field(default=None, repr=False)
+
+    def codes(self) -> LatentCodes:
+        """Every recording's latent codes, encoded once the autoencoder has finished training."""
+        if self.phase == "ae":
+            raise RuntimeError("latent codes exist only once the autoencoder is trained")
+        if self._codes is None:
+            self._codes = LatentCodes(self.autoencoder, self.data)
+        return self._codes
+
+    def make_lstm(self, latent_scaler: Scaler, stretch_scaler: Scaler) -> None:
+        """The LSTM and its optimiser, seeded on their own so that resume rebuilds the same network."""
+        t = self.config.train
+        self.latent_scaler, self.stretch_scaler = latent_scaler, stretch_scaler
+        torch.manual_seed(t.seed + 1)
+        self.lstm = StretchToLatent(self.data.sensor_count, t.lstm_hidden, latent_scaler.kept)
+        self.lstm_optimizer = torch.optim.Adam(self.lstm.parameters(), lr=t.lr_lstm)
+
+    def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None) -> dict[str, Any]:
+        """Plain tensors, numbers and strings: the file loads with torch.load(weights_only=True)."""
+        state: dict[str, Any] = {
+            "softarm_version": __version__, "config": self.config.to_dict(),
+            "image_shape": list(self.data.image_shape), "sensor_count": self.data.sensor_count,
+            "recordings": self.data.fingerprints(), "progress": {"phase": self.phase, "epoch": self.epoch},
+            "losses": self.losses, "autoencoder": self.autoencoder.state_dict(),
+            "lstm": self.lstm.state_dict() if self.lstm is not None else None,
+            "optimizer": (self.ae_optimizer if self.phase == "ae" else self.lstm_optimizer).state_dict(),
+        }
+        if self.latent_scaler is not None:
+            state["latent_scaler"] = self.latent_scaler.to_state()
+            state["stretch_scaler"] = self.stretch_scaler.to_state()
+        if metrics is not None:
+            state["metrics"] = metrics
+        return state
+
+    def save(self, path: Path, metrics: Optional[dict[str, Any]] = None) -> None:
+        save_checkpoint(path, self.to_checkpoint(metrics))
+
+    def restore(self, saved: dict[str, Any], path: Path) -> None:
+        """Continue from a checkpoint of the same recordings (refused otherwise)."""
+        if [r["sha256"] for r in saved["recordings"]] != [r["sha256"] for r in self.data.fingerprints()]:
+            names = ", ".join(r["name"] for r in saved["recordings"])
+            raise CheckpointError(f"--resume: {path} was trained on other recordings ({names}); "
+                                  "give the same recordings in the same order")
+        self.autoencoder.load_state_dict(saved["autoencoder"])
+        self.phase, self.epoch = saved["progress"]["phase"], saved["progress"]["epoch"]
+        self.losses = {k: list(v) for k, v in saved["losses"].items()}
+        if self.phase == "ae":
+            self.ae_optimizer.load_state_dict(saved["optimizer"])
+            return
+        self.make_lstm(Scaler.from_state(saved["latent_scaler"]), Scaler.from_state(saved["stretch_scaler"]))
+        self.lstm.load_state_dict(saved["lstm"])
+        self.lstm_optimizer.load_state_dict(saved["optimizer"])
+
+
+def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, resume: bool) -> TrainState:
+    """A fresh run on `paths`, or with resume the run saved in `out` (whose settings win, with a warning)."""
+    saved = load_checkpoint(out) if resume else None
+    if saved is not None:
+        config = _saved_config(saved, config)
+    t = config.train
+    data = load_dataset(paths, t)
+    torch.manual_seed(t.seed)
+    autoencoder = Autoencoder(*data.image_shape, t.latent)
+    state = TrainState(config, data, autoencoder, torch.optim.Adam(autoencoder.parameters(), lr=t.lr_ae))
+    if saved is not None:
+        state.restore(saved, out)
+    return state
+
+
+def _saved_config(saved: dict[str, Any], asked: Config) -> Config:
+    """The saved run's config; training settings asked for now that differ from it are named and ignored."""
+    config = config_from_dict(saved["config"])
+    ignored = {k: v for k, v in dataclasses.asdict(asked.train).items() if getattr(config.train, k) != v}
+    if ignored:
+        warnings.warn("--resume continues with the saved run's settings; ignored: "
+                      + ", ".join(f"train.{k} = {v}" for k, v in ignored.items()), stacklevel=3)
+    return config

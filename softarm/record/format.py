@@ -1,0 +1,45 @@
+"""The softarm-recording/1 format (docs/recording.md): topics, schemas and metadata names, shared by writer and reader."""
+
+import orjson
+
+FORMAT = "softarm-recording/1"
+FORMAT_NAME, FORMAT_VERSION = FORMAT.split("/")
+FORMAT_VERSION_NUMBER = int(FORMAT_VERSION)
+
+META_MODEL = "softarm"
+META_RUN = "softarm.run"
+
+IMAGE = "/camera/image"
+STRETCH = "/arm/stretch"
+NODES = "/arm/nodes"
+EXCITATION = "/arm/excitation"
+TOPICS = (IMAGE, STRETCH, NODES, EXCITATION)
+
+POSITION_DECIMALS = 9  # node positions are written to the nanometre
+
+
+def json_schema(title: str, description: str, properties: dict) -> bytes:
+    return orjson.dumps({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": title,
+        "description": description,
+        "type": "object",
+        "properties": {"t": {"type": "number", "description": "time since the start of the run, s"}, **properties},
+        "required": ["t", *properties],
+    }, option=orjson.OPT_SORT_KEYS)
+
+
+_NUMBERS = {"type": "array", "items": {"type": "number"}}
+
+JSON_SCHEMAS = {
+    STRETCH: ("softarm.Stretch", json_schema(
+        "softarm.Stretch", "Stretch sensor readings: change of distance between two nodes",
+        {"stretch": {**_NUMBERS, "description": "one reading per sensor, m"}})),
+    NODES: ("softarm.Nodes", json_schema(
+        "softarm.Nodes", "Positions of every node of the arm",
+        {"positions": {"type": "array", "items": {**_NUMBERS, "minItems": 2, "maxItems": 2},
+                       "description": "[x, y] per node, m (y up)"}})),
+    EXCITATION: ("softarm.Excitation", json_schema(
+        "softarm.Excitation", "Horizontal displacement of the driven nodes, f(t + t0)",
+        {"displacement": {"type": "number", "description": "m"}})),
+}

@@ -1,0 +1,181 @@
+"""Reads softarm-recording/1 MCAP files into arrays for the learning code.
+
+Reads the file front to back with MCAP's stream reader rather than through its summary, so a file cut
+short (a crash, a full disk) still gives every frame of every complete chunk; such a recording is
+marked `truncated` and a warning says how many frames were recovered. Everything a user can get
+wrong (missing, empty, foreign or newer file) raises `RecordingError` with a one-line message.
+"""
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterator, Optional, Union
+
+import numpy as np
+import orjson
+from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
+from mcap.records import Channel, Chunk, Message, Metadata
+from mcap.stream_reader import StreamReader, breakup_chunk
+
+from softarm.errors import RecordingError
+from softarm.record.format import (EXCITATION, FORMAT, FORMAT_NAME, FORMAT_VERSION_NUMBER, IMAGE, META_MODEL,
+                                      META_RUN, NODES, STRETCH, TOPICS)
+
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+class TruncatedRecordingWarning(UserWarning):
+    """A recording was cut short; the frames of its complete chunks were recovered."""
+
+
+@dataclass(frozen=True)
+class Recording:
+    path: Path
+    model: dict[str, Any]        # the `softarm` metadata's model document (docs/recording.md, Metadata)
+    times: np.ndarray            # (T,) s
+    frames: np.ndarray           # (T, H, W) uint8, 1 = arm
+    stretch: np.ndarray          # (T, P) m
+    displacement: np.ndarray     # (T,) m
+    positions: Optional[np.ndarray]  # (T, N, 2) m, None when read with nodes=False
+    complete: bool               # the run ended normally (not interrupted, not truncated)
+    truncated: bool              # the file was cut short and recovered
+
+    @property
+    def frame_dt(self) -> float:
+        return float(self.model["frame_dt"])
+
+
+def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
+    """Load every complete frame of a recording. nodes=False skips the node positions (the largest part)."""
+    path = Path(path)
+    model, run, messages, truncated = _scan(path, nodes)
+    stamps = sorted(set.intersection(*(set(messages[t]) for t in _topics(nodes))))
+    if not stamps:
+        raise RecordingError(f"{path} holds no complete frame")
+    height, width = model["camera"]["height"], model["camera"]["width"]
+    frames = (np.stack([_image(messages[IMAGE][s], path, height, width) for s in stamps]) > 127).astype(np.uint8)
+    complete = run is not None and run.get("complete") == "true" and not truncated
+    if truncated:
+        warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
+                      stacklevel=2)
+    return Recording(
+        path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames,
+        stretch=np.array([m["stretch"] for m in _json(messages[STRETCH], stamps)], np.float64),
+        displacement=np.array([m["displacement"] for m in _json(messages[EXCITATION], stamps)], np.float64),
+        positions=np.array([m["positions"] for m in _json(messages[NODES], stamps)], np.float64) if nodes else None,
+        complete=complete, truncated=truncated)
+
+
+def read_model(path: Union[str, Path]) -> dict[str, Any]:
+    """Only the model document: cheap, for checking that a recording fits a checkpoint before loading it."""
+    path = Path(path)
+    for record in _records(path, stop_after_model=True):
+        if isinstance(record, Metadata) and record.name == META_MODEL:
+            return _model(record, path)
+    raise RecordingError(f"{path} is an MCAP file but not a softarm recording (no '{META_MODEL}' metadata)")
+
+
+def _topics(nodes: bool) -> tuple[str, ...]:
+    return TOPICS if nodes else tuple(t for t in TOPICS if t != NODES)
+
+
+def _scan(path: Path, nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, str]], dict[str, dict[int, bytes]], bool]:
+    wanted = _topics(nodes)
+    model = run = None
+    channels: dict[int, str] = {}
+    messages: dict[str, dict[int, bytes]] = {t: {} for t in wanted}
+    truncated = False
+    try:
+        for record in _records(path):
+            if isinstance(record, Metadata):
+                if record.name == META_MODEL:
+                    model = _model(record, path)
+                elif record.name == META_RUN:
+                    run = dict(record.metadata)
+            elif isinstance(record, Channel):
+                channels[record.id] = record.topic
+            elif isinstance(record, Message):
+                topic = channels.get(record.channel_id)
+                if topic in messages:
+                    messages[topic][record.log_time] = record.data
+    except _Truncated:
+        truncated = True
+    if model is None and truncated:
+        raise RecordingError(f"{path} is cut short before its metadata: no frame can be recovered")
+    if model is None:
+        raise RecordingError(f"{path} is an MCAP file but not a softarm recording (no '{META_MODEL}' metadata)")
+    missing = [t for t in wanted if not messages[t]]
+    if missing and not truncated:
+        raise RecordingError(f"{path} has no messages on {', '.join(missing)}")
+    return model, run, messages, truncated
+
+
+class _Truncated(Exception):
+    pass
+
+
+def _records(path: Path, stop_after_model: bool = False) -> Iterator[Any]:
+    """MCAP records in file order, chunks opened; raises _Truncated where the file stops making sense."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(len(MCAP_MAGIC))
+            if not head:
+                raise RecordingError(f"{path} is empty (0 bytes): not a recording")
+            if head != MCAP_MAGIC:
+                raise RecordingError(f"{path} is not an MCAP file (it does not start with the MCAP magic bytes)")
+            f.seek(0)
+            reader = StreamReader(f, emit_chunks=True)
+            stream = iter(reader.records)
+            while True:
+                try:
+                    record = next(stream)
+                except StopIteration:
+                    return
+                except Exception as e:  # McapError, struct.error, ...: the bytes stop making sense here
+                    raise _Truncated() from e
+                if isinstance(record, Chunk):
+                    try:
+                        inner = breakup_chunk(record, validate_crc=True)
+                    except Exception as e:  # a damaged chunk: zstd or CRC error
+                        raise _Truncated() from e
+                    yield from inner
+                else:
+                    yield record
+                    if stop_after_model and isinstance(record, Metadata) and record.name == META_MODEL:
+                        return
+    except FileNotFoundError:
+        raise RecordingError(f"recording {path} not found") from None
+    except IsADirectoryError:
+        raise RecordingError(f"{path} is a folder, not a recording") from None
+    except PermissionError:
+        raise RecordingError(f"recording {path} cannot be read (permission denied)") from None
+
+
+def _model(record: Metadata, path: Path) -> dict[str, Any]:
+    fmt = record.metadata.get("format", "")
+    name, _, version = fmt.partition("/")
+    if name != FORMAT_NAME or not version.isdigit():
+        raise RecordingError(f"{path}: unknown recording format {fmt!r}; softarm reads {FORMAT}")
+    if int(version) > FORMAT_VERSION_NUMBER:
+        raise RecordingError(f"{path} is written in {fmt}, newer than this softarm reads ({FORMAT}): upgrade softarm")
+    try:
+        return orjson.loads(record.metadata["model"])
+    except (KeyError, orjson.JSONDecodeError):
+        raise RecordingError(f"{path}: the '{META_MODEL}' metadata has no readable model document") from None
+
+
+def _json(messages: dict[int, bytes], stamps: list[int]) -> list[Any]:
+    """Decode many JSON messages in one call (one array document): much cheaper than one call each."""
+    return orjson.loads(b"[" + b",".join(messages[s] for s in stamps) + b"]")
+
+
+def _image(data: bytes, path: Path, height: int, width: int) -> np.ndarray:
+    """The mono8 pixels (height, width) of one foxglove.RawImage message."""
+    try:
+        msg = RawImage.FromString(data)
+    except Exception:
+        raise RecordingError(f"{path}: a {IMAGE} message is not a foxglove.RawImage") from None
+    if msg.encoding != "mono8" or (msg.height, msg.width) != (height, width):
+        raise RecordingError(f"{path}: images are {msg.encoding} {msg.height}x{msg.width}, but the model says "
+                             f"mono8 {height}x{width}")
+    return np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.step)[:, :msg.width]

@@ -1,0 +1,85 @@
+"""Writes one arm's run as a softarm-recording/1 MCAP file (docs/recording.md).
+
+The file grows as `<name>.mcap.part` and is renamed when it is closed, so a path without `.part`
+is always a whole file: closed normally (`complete = "true"`), or on Ctrl-C with every frame
+recorded so far (`complete = "false"`). A failed run discards its `.part`.
+"""
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import orjson
+
+from softarm import __version__
+from softarm.arm.body import Body
+from softarm.arm.camera import world_to_pixel
+from softarm.config import Config
+from softarm.arm.drive import Drive
+from softarm.record.mcap_file import McapFile
+from softarm.record.format import (EXCITATION, FORMAT, IMAGE, JSON_SCHEMAS, META_MODEL, META_RUN, NODES,
+                                      POSITION_DECIMALS, STRETCH)
+
+
+def model_metadata(config: Config, body: Body, drive: Drive, seed: int,
+                   positions: np.ndarray, velocities: np.ndarray) -> dict[str, Any]:
+    """Everything another program needs to re-simulate this arm without softarm (docs/model.md, docs/recording.md)."""
+    return {
+        "nodes": body.rest.tolist(),
+        "masses": body.masses.tolist(),
+        "springs": body.springs.tolist(),
+        "rest_lengths": body.rest_lengths.tolist(),
+        "stiffness": body.stiffness.tolist(),
+        "damping": body.damping.tolist(),
+        "driven": body.driven.tolist(),
+        "gravity": body.gravity.tolist(),
+        "excitation": {"amplitude": drive.amplitude, "frequencies": list(drive.frequencies),
+                       "time_offset": drive.time_offset},
+        "sensors": body.sensors.tolist(),
+        "outline": body.outline.tolist(),
+        "camera": {"width": config.camera.width, "height": config.camera.height,
+                   "world_to_pixel": world_to_pixel(config.camera).tolist()},
+        "frame_dt": config.integration.frame_dt,
+        "substeps": config.integration.substeps,
+        "integrator": config.integration.integrator,
+        "initial": {"positions": positions.tolist(), "velocities": velocities.tolist()},
+        "seed": seed,
+        "softarm_version": __version__,
+        "config": config.to_dict(),
+    }
+
+
+class RecordingWriter:
+    """One open recording. Use `close(complete)` to finish it or `discard()` to remove it."""
+
+    def __init__(self, path: Path, model: dict[str, Any], frame_dt: float):
+        self.path = Path(path)
+        self.frame_dt = frame_dt
+        self.frames = 0
+        self._mcap = McapFile(self.path, (IMAGE,), JSON_SCHEMAS)
+        self._mcap.writer.add_metadata(META_MODEL, {"format": FORMAT, "model": orjson.dumps(model).decode()})
+
+    def write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray) -> None:
+        """Append a block of frames: images (B, H, W) of 0/1, stretch (B, P), positions (B, N, 2), displacement (B,)."""
+        n, height, width = images.shape
+        pixels = (images.astype(np.uint8) * 255).reshape(n, -1)
+        positions = np.round(positions, POSITION_DECIMALS)  # a fresh C-contiguous array, as orjson needs
+        stretch = np.ascontiguousarray(stretch, np.float64)
+        k = np.arange(self.frames, self.frames + n)
+        stamps = np.round(k * self.frame_dt * 1e9).astype(np.int64).tolist()
+        add, numpy = self._mcap.add, orjson.OPT_SERIALIZE_NUMPY
+        for f, ns in enumerate(stamps):
+            t = ns / 1e9
+            self._mcap.add_image(IMAGE, ns, pixels[f].tobytes(), height, width, "camera")
+            add(STRETCH, ns, orjson.dumps({"t": t, "stretch": stretch[f]}, option=numpy))
+            add(NODES, ns, orjson.dumps({"t": t, "positions": positions[f]}, option=numpy))
+            add(EXCITATION, ns, orjson.dumps({"t": t, "displacement": float(displacement[f])}))
+        self.frames += n
+
+    def close(self, complete: bool) -> Path:
+        """Write the run record, the summary and the index, then move the file to its final name."""
+        return self._mcap.close({META_RUN: {"complete": "true" if complete else "false", "frames": str(self.frames)}})
+
+    def discard(self) -> None:
+        """Drop the unfinished file: a failed run leaves nothing behind."""
+        self._mcap.discard()

@@ -1,0 +1,196 @@
+"""Taichi simulator: many arms stepped together by semi-implicit Euler (docs/model.md, Forces, Integration).
+
+One kernel launch advances every arm a block of frames. The outer loop runs over arms in parallel;
+one arm's substeps are a tight serial loop, because ~160 springs are too few to split across threads
+on a CPU. Fields have the arm (batch) dimension first.
+"""
+
+from typing import Optional, Sequence
+
+import numpy as np
+import taichi as ti
+
+from softarm.arm.batch import ArmBatch, arm_batch
+from softarm.arm.body import Body
+from softarm.arm.drive import Drive
+from softarm.config import Config
+from softarm.errors import SimulationError
+from softarm.sim.runtime import task_layout
+
+
+@ti.func
+def drive_at(t: ti.f64, amplitude: ti.f64, freqs: ti.template()) -> ti.math.vec2:
+    """(f(t), f'(t)) of the product of sines, by the product rule."""
+    value = amplitude
+    rate = 0.0
+    for n in range(freqs.shape[0]):
+        w = 2.0 * ti.math.pi * freqs[n]
+        s, c = ti.sin(w * t), ti.cos(w * t)
+        rate = rate * s + value * w * c
+        value = value * s
+    return ti.Vector([value, rate], ti.f64)
+
+
+@ti.func
+def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.template(), springs: ti.template(),
+                      spring_params: ti.template(), mass: ti.template(), gx: ti.f64, gy: ti.f64):
+    """force[a] = gravity + every spring and damper (docs/model.md, Forces); spring_params[s] = (L0, k, b)."""
+    g = ti.Vector([gx, gy], ti.f64)
+    for i in range(x.shape[1]):
+        force[a, i] = mass[i] * g
+    for s in range(springs.shape[0]):
+        ends, params = springs[s], spring_params[s]
+        i, j = ends[0], ends[1]
+        d = x[a, j] - x[a, i]
+        length = ti.sqrt(d[0] * d[0] + d[1] * d[1])
+        u = d * (1.0 / length)
+        magnitude = params[1] * (length - params[0]) + params[2] * (v[a, j] - v[a, i]).dot(u)
+        f = magnitude * u
+        force[a, i] = force[a, i] + f
+        force[a, j] = force[a, j] - f
+
+
+@ti.func
+def substep(a: int, t: ti.f64, h: ti.f64, x: ti.template(), v: ti.template(), force: ti.template(),
+            rest: ti.template(), mass: ti.template(), free: ti.template(), amplitude: ti.template(),
+            freqs: ti.template()):
+    drive = drive_at(t, amplitude[a], freqs)
+    for i in range(x.shape[1]):
+        if free[i]:
+            v[a, i] = v[a, i] + h * force[a, i] / mass[i]
+            x[a, i] = x[a, i] + h * v[a, i]
+        else:
+            x[a, i] = rest[i] + ti.Vector([drive[0], 0.0], ti.f64)
+            v[a, i] = ti.Vector([drive[1], 0.0], ti.f64)
+
+
+@ti.func
+def first_far_node(a: int, x: ti.template(), rest: ti.template(), free: ti.template(), limit: ti.f64) -> int:
+    """Index of the first free node further than `limit` from rest (NaN counts as far), or -1."""
+    found = -1
+    for i in range(x.shape[1]):
+        dx, dy = x[a, i][0] - rest[i][0], x[a, i][1] - rest[i][1]
+        if free[i] and found < 0 and not (dx * dx + dy * dy <= limit * limit):
+            found = i
+    return found
+
+
+@ti.data_oriented
+class Simulator:
+    """Owns the state of a batch of arms on the Taichi device and steps it block by block.
+
+    The state lives in Taichi fields whose shapes are fixed per simulator, so the kernel's index
+    arithmetic is constant (faster than ndarrays with runtime shapes: README, Benchmarks), at the price of one
+    kernel compile per simulator (Taichi's offline cache keeps it for the next run of the same shape).
+    `history` is the host copy of the last block: (arms, block_frames, N, 2).
+    """
+
+    def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
+                 blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100):
+        arms, n, springs = len(drives), body.n_nodes, len(body.springs)
+        if len({d.frequencies for d in drives}) != 1:
+            raise ValueError("all arms of a batch share the excitation frequencies")
+        self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
+        self.arms, self.block_frames, self.frame = arms, block_frames, 0
+        self.x, self.v, self.force, self.rest, self.positions = (ti.Vector.field(2, ti.f64) for _ in range(5))
+        self.springs, self.spring_params = ti.Vector.field(2, ti.i32), ti.Vector.field(3, ti.f64)
+        self.mass, self.amplitude, self.time_offset, self.freqs = (ti.field(ti.f64) for _ in range(4))
+        self.free, self.status = ti.field(ti.i32), ti.field(ti.i32)
+        builder = ti.FieldsBuilder()
+        builder.dense(ti.ij, (arms, n)).place(self.x, self.v, self.force)
+        builder.dense(ti.ijk, (arms, block_frames, n)).place(self.positions)
+        builder.dense(ti.ij, (arms, 2)).place(self.status)
+        builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
+        builder.dense(ti.i, springs).place(self.springs, self.spring_params)
+        builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
+        builder.dense(ti.i, len(drives[0].frequencies)).place(self.freqs)
+        self._tree = builder.finalize()
+        fill = {self.x: np.broadcast_to(positions, (arms, n, 2)), self.v: np.broadcast_to(velocities, (arms, n, 2)),
+                self.rest: body.rest, self.mass: body.masses,
+                self.spring_params: np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1),
+                self.amplitude: [d.amplitude for d in drives], self.time_offset: [d.time_offset for d in drives],
+                self.freqs: drives[0].frequencies}
+        for field, values in fill.items():
+            field.from_numpy(np.ascontiguousarray(values, np.float64))
+        for field, values in {self.status: np.full((arms, 2), -1), self.free: body.free, self.springs: body.springs}.items():
+            field.from_numpy(np.ascontiguousarray(values, np.int32))
+        self.history = np.zeros((arms, block_frames, n, 2))
+        self._tasks = task_layout(arms)
+
+    @classmethod
+    def from_config(cls, config: Config, batch: Optional[ArmBatch] = None, block_frames: int = 100) -> "Simulator":
+        """The arms of `batch` (default: the config's run) started and stepped exactly as `simulate` does."""
+        batch = batch if batch is not None else arm_batch(config)
+        integration = config.integration
+        return cls(batch.body, batch.drives, integration.frame_dt, integration.substeps, integration.blowup_distance,
+                   batch.positions, batch.velocities, block_frames)
+
+    @ti.kernel
+    def _advance(self, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32, frame_dt: ti.f64,
+                 blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, tasks: ti.i32, spacing: ti.i32):
+        """Record each arm's state as frames first_frame.. into positions[:, :n_frames], stepping between them.
+
+        Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
+        status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
+        arm stops stepping.
+        """
+        h = frame_dt / substeps
+        arms = self.x.shape[0]
+        for slot in range(tasks * spacing):
+            if slot % spacing == 0:
+                task = slot // spacing
+                for j in range((arms - task + tasks - 1) // tasks):
+                    a = task + j * tasks
+                    for f in range(n_frames):
+                        for i in range(self.x.shape[1]):
+                            self.positions[a, f, i] = self.x[a, i]
+                        if self.status[a, 0] < 0:
+                            k = first_frame + f
+                            for s in range(substeps):
+                                accumulate_forces(a, self.x, self.v, self.force, self.springs, self.spring_params,
+                                                  self.mass, gx, gy)
+                                t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + self.time_offset[a]
+                                substep(a, t, h, self.x, self.v, self.force, self.rest, self.mass, self.free,
+                                        self.amplitude, self.freqs)
+                            far = first_far_node(a, self.x, self.rest, self.free, blowup_distance)
+                            if far >= 0:
+                                self.status[a, 0] = k + 1
+                                self.status[a, 1] = far
+
+    def step_block(self, n_frames: int) -> None:
+        """Fill `history[:, :n_frames]` with the next n_frames frames and step past them."""
+        if not 1 <= n_frames <= self.block_frames:
+            raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
+        gx, gy = self.body.gravity
+        self._advance(self.frame, n_frames, self.substeps, self.frame_dt, self.blowup_distance, float(gx), float(gy),
+                      *self._tasks)
+        self.history = self.positions.to_numpy()
+        self.frame += n_frames
+        self._raise_on_blowup()
+
+    def advance(self, n_frames: int) -> np.ndarray:
+        """(arms, n_frames, N, 2) positions at the next n_frames frame times, float64."""
+        out = []
+        while n_frames > 0:
+            block = min(n_frames, self.block_frames)
+            self.step_block(block)
+            out.append(self.history[:, :block])
+            n_frames -= block
+        return np.concatenate(out, axis=1)
+
+    def close(self) -> None:
+        """Free the fields; a process that makes many simulators (a notebook, the tests) should call it."""
+        self._tree.destroy()
+
+    def _raise_on_blowup(self) -> None:
+        status = self.status.to_numpy()
+        bad = np.flatnonzero(status[:, 0] >= 0)
+        if len(bad) == 0:
+            return
+        arm = bad[np.argmin(status[bad, 0])]
+        frame, node = status[arm]
+        where = f" (arm {arm})" if self.arms > 1 else ""
+        raise SimulationError(
+            f"the simulation blew up at t = {frame * self.frame_dt:.6g} s{where}: node {node} went further than "
+            f"integration.blowup_distance = {self.blowup_distance} m from rest (or became NaN); "
+            f"raise integration.substeps (now {self.substeps}) or lower excitation.amplitude")

@@ -1,0 +1,129 @@
+"""`simulate`: a batch of arms from config to recordings (physics -> camera -> sensors -> MCAP), block by block."""
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Optional, Union
+
+import numpy as np
+
+from softarm.arm.batch import arm_batch
+from softarm.arm.sensors import stretch
+from softarm.config import Config
+from softarm.files import check_outputs
+from softarm.interrupt import stop_on_signal
+from softarm.record.process import RecorderProcess
+from softarm.record.writer import model_metadata
+
+DEFAULT_FOLDER = Path("recordings")
+
+
+class Laps:
+    """Wall time per stage of the loop, so a user (and the benchmark) sees which stage is the slowest."""
+
+    def __init__(self) -> None:
+        self.seconds: dict[str, float] = {}
+        self._last = time.perf_counter()
+
+    def lap(self, stage: str) -> None:
+        now = time.perf_counter()
+        self.seconds[stage] = self.seconds.get(stage, 0.0) + now - self._last
+        self._last = now
+
+
+@dataclass(frozen=True)
+class SimResult:
+    paths: list[Path]
+    frames: int           # frames written to each file
+    complete: bool        # False when the run was interrupted
+    wall_seconds: float
+    simulated_seconds: float
+    stage_seconds: dict[str, float]  # wall time of setup, physics, camera, sensors, recording
+
+    @property
+    def bytes(self) -> int:
+        return sum(p.stat().st_size for p in self.paths)
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated seconds per wall-clock second, over all arms."""
+        return len(self.paths) * self.simulated_seconds / self.wall_seconds
+
+
+def output_paths(config: Config, out: Union[str, Path, None] = None) -> list[Path]:
+    """One file per arm: `out` itself for one arm, `<stem>_arm<i>.mcap` for a batch; default recordings/seed<s>.mcap."""
+    seeds = [config.run.seed + i for i in range(config.run.arms)]
+    if out is None:
+        return [DEFAULT_FOLDER / f"seed{s}.mcap" for s in seeds]
+    out = Path(out)
+    if config.run.arms == 1:
+        return [out]
+    return [out.with_name(f"{out.stem}_arm{i}{out.suffix or '.mcap'}") for i in range(config.run.arms)]
+
+
+BLOCK_BYTES = 256 * 2**20  # device memory for one block of positions and images, all arms together
+MAX_BLOCK_FRAMES = 500      # 5 s: long enough that Taichi's cost per kernel launch does not show
+
+
+def block_frames_for(config: Config, n_nodes: int) -> int:
+    """Frames per kernel launch: as many as fit BLOCK_BYTES for the whole batch, at most MAX_BLOCK_FRAMES."""
+    per_frame = config.run.arms * (n_nodes * 2 * 8 + config.camera.height * config.camera.width)
+    return max(1, min(MAX_BLOCK_FRAMES, config.n_frames, BLOCK_BYTES // per_frame))
+
+
+def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = False, arch: str = "cpu",
+             progress: Optional[Callable[[int], None]] = None) -> SimResult:
+    """Run config.run.arms arms for config.run.duration seconds and record each to its MCAP file.
+
+    `progress(frames_done)` is called after every block. Ctrl-C stops at the next block boundary and
+    closes every file with complete = "false"; any error removes every file of the run. Taichi starts
+    on `arch` at the first call (cpu | gpu | auto).
+    """
+    from softarm.sim.physics import Simulator  # Taichi loads here, not when softarm is imported
+    from softarm.sim.raster import Rasteriser
+    from softarm.sim.runtime import init_taichi
+
+    start = time.perf_counter()
+    laps = Laps()
+    batch = arm_batch(config)  # config errors first: a refused run creates no folder
+    paths = output_paths(config, out)
+    check_outputs(paths, force)
+    init_taichi(arch)
+
+    body, drives, integ = batch.body, batch.drives, config.integration
+    block_frames = block_frames_for(config, body.n_nodes)
+    sim = Simulator.from_config(config, batch, block_frames)
+    camera = Rasteriser(config.camera, body.outline, batch.arms, block_frames)
+    specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
+             for path, drive, seed, p0, v0 in zip(paths, drives, batch.seeds, batch.positions, batch.velocities)]
+    recorder = RecorderProcess(specs)
+    laps.lap("setup")
+    done = 0
+    try:
+        with stop_on_signal() as caught:
+            while done < config.n_frames and not caught:
+                n = min(block_frames, config.n_frames - done)
+                sim.step_block(n)
+                positions = sim.history[:, :n]
+                laps.lap("physics")
+                images = camera.render(sim.history, n)
+                laps.lap("camera")
+                readings = stretch(positions, body.rest, body.sensors)
+                times = np.arange(done, done + n) * integ.frame_dt
+                displacements = np.stack([d.displacement(times) for d in drives])
+                laps.lap("sensors")
+                recorder.write(images, readings, positions, displacements)
+                laps.lap("recording (queue)")
+                done += n
+                if progress:
+                    progress(done)
+            complete = not caught
+            recorder.close(complete)  # inside: a Ctrl-C during the final flush must not discard the files
+        laps.lap("recording (rest, after the physics)")
+    except BaseException:
+        recorder.discard()
+        raise
+    finally:
+        sim.close()
+    return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,
+                     simulated_seconds=done * integ.frame_dt, stage_seconds=laps.seconds)

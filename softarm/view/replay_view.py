@@ -1,0 +1,82 @@
+"""The replay timeline in Rerun: camera (with the arm's nodes) | imagined | difference | fused on top,
+stretch, excitation and per-frame IoU below, all on the `sim_time` timeline. It logs; `softarm.imagine`
+computed everything."""
+
+from pathlib import Path
+from typing import Any, Optional
+
+import numpy as np
+import rerun as rr
+import rerun.blueprint as rrb
+
+from softarm.view.images import DIFFERENCE_CLASSES, DIFFERENCE_COLOURS, difference_codes, probability_bytes
+from softarm.view.stream import RerunStream
+from softarm.view.training_view import send_images
+
+IMAGES = ("camera", "imagined", "difference", "fused")
+
+
+def replay_blueprint() -> rrb.Blueprint:
+    """Camera | imagined | difference | fused on top; stretch, excitation and IoU below, on sim_time."""
+    return rrb.Blueprint(
+        rrb.Vertical(
+            rrb.Horizontal(*(rrb.Spatial2DView(origin=name, name=name) for name in IMAGES)),
+            rrb.Horizontal(rrb.TimeSeriesView(origin="signals/stretch", name="stretch (m)"),
+                           rrb.TimeSeriesView(origin="signals/excitation", name="excitation (m)"),
+                           rrb.TimeSeriesView(origin="signals/iou", name="imagination IoU")),
+            row_shares=[3, 2],
+        ),
+        rrb.TimePanel(timeline="sim_time"),
+    )
+
+
+def log_replay(result: Any, rrd: Optional[Path] = None, spawn: bool = False,
+               imagined_bytes: Optional[np.ndarray] = None) -> Optional[Path]:
+    """Write a replay (`softarm.imagine.replay.Replay`) as an .rrd and/or show it in a spawned viewer.
+
+    `imagined_bytes` (the imagined frames as grey bytes) may be passed when another writer made them already.
+    """
+    if rrd is None and not spawn:
+        return None
+    stream = RerunStream("softarm-replay", replay_blueprint(), rrd=rrd, spawn=spawn)
+    try:
+        _log_images(stream.rec, result, imagined_bytes)
+        _log_signals(stream.rec, result)
+    except BaseException:
+        stream.discard()
+        raise
+    return stream.close()
+
+
+def _log_images(rec: rr.RecordingStream, result: Any, imagined_bytes: Optional[np.ndarray]) -> None:
+    times = [rr.TimeColumn("sim_time", duration=result.times)]
+    truth = result.recording.frames
+    send_images(rec, "camera/image", times, truth * np.uint8(255))
+    send_images(rec, "imagined/image", times,
+                imagined_bytes if imagined_bytes is not None else probability_bytes(result.imagined))
+    rec.log("difference", rr.AnnotationContext([(i, name, tuple(int(c) for c in colour)) for i, (name, colour)
+                                                in enumerate(zip(DIFFERENCE_CLASSES, DIFFERENCE_COLOURS))]),
+            static=True)
+    codes = difference_codes(truth, result.imagined)  # one byte a pixel; the viewer colours the classes
+    fmt = rr.components.ImageFormat(width=codes.shape[2], height=codes.shape[1], channel_datatype="U8")
+    rec.send_columns("difference/image", indexes=times, columns=rr.SegmentationImage.columns(
+        buffer=codes.reshape(len(codes), -1), format=[fmt] * len(codes)))
+    send_images(rec, "fused/image", times, probability_bytes(result.fused))
+    nodes = result.nodes_px
+    if nodes is not None:
+        rec.send_columns("camera/nodes", indexes=times, columns=rr.Points2D.columns(
+            positions=nodes.reshape(-1, 2)).partition([nodes.shape[1]] * len(nodes)))
+
+
+def _log_signals(rec: rr.RecordingStream, result: Any) -> None:
+    times = [rr.TimeColumn("sim_time", duration=result.times)]
+    for i in range(result.recording.stretch.shape[1]):
+        rec.send_columns(f"signals/stretch/{i}", indexes=times,
+                         columns=rr.Scalars.columns(scalars=result.recording.stretch[:, i]))
+    rec.send_columns("signals/excitation", indexes=times,
+                     columns=rr.Scalars.columns(scalars=result.recording.displacement))
+    seen = result.predicted
+    rec.send_columns("signals/iou", indexes=[rr.TimeColumn("sim_time", duration=result.times[seen])],
+                     columns=rr.Scalars.columns(scalars=result.iou[seen]))
+    rec.send_columns("signals/blind", indexes=times, columns=rr.Scalars.columns(
+        scalars=result.blind.astype(np.float64)))
