@@ -91,6 +91,8 @@ class CReference:
                  positions: np.ndarray, velocities: np.ndarray):
         if len({d.frequencies for d in drives}) != 1:
             raise ValueError("all arms of a batch share the excitation frequencies")
+        if any(d.kind != "product_of_sines" or tuple(d.direction) != (1.0, 0.0) for d in drives):
+            raise ValueError("the C reference implements the paper's drive only: product_of_sines, sideways")
         self._lib = load_library()
         arms, n = len(drives), body.n_nodes
         self.body, self.frame_dt, self.substeps, self.arms, self.frame = body, frame_dt, substeps, arms, 0

@@ -11,6 +11,7 @@ from rich.console import Console
 from softarm import __version__
 from softarm.config import DEFAULT_CONFIG_TEXT, load_config
 from softarm.errors import SoftarmError
+from softarm.sense.reading import parse_imperfections
 from softarm.sim import ARCHS
 from softarm_cli.progress import LazyProgress
 
@@ -27,6 +28,8 @@ if TYPE_CHECKING:
 D = load_config()  # the defaults that --help shows come from the config, their one source of truth
 
 T = TypeVar("T")
+SENSOR_NOISE_HELP = ("Sensor imperfections to read with, replacing the checkpoint's, e.g. noise=2e-5,drift=1e-5 "
+                     "(keys of the [sensing] config section but pairs; see `softarm config`).")
 
 
 def one_line_warning(message: Warning | str, category: type[Warning], *_: object, **__: object) -> None:
@@ -169,6 +172,7 @@ def replay(
     mcap: Annotated[Optional[Path], typer.Option("--mcap", help="Write the imagination as MCAP (/imagination/image, /imagination/iou).")] = None,
     png: Annotated[Optional[Path], typer.Option("--png", help="Write a filmstrip: camera / imagined / difference at evenly spaced times.")] = None,
     blind: Annotated[Optional[list[str]], typer.Option("--blind", metavar="START:END", help="Camera blackout START:END in seconds (repeatable); metrics split blind / seeing.")] = None,
+    sensor_noise: Annotated[Optional[str], typer.Option("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP)] = None,
     spawn: Annotated[bool, typer.Option("--spawn", help="Show the timeline in a Rerun viewer.")] = False,
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing outputs.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No metrics table.")] = False,
@@ -181,8 +185,9 @@ def replay(
     from softarm.imagine.run import replay as run_replay
     from softarm_cli.tables import replay_table
 
+    noise = run_or_exit(lambda: parse_imperfections(sensor_noise)) if sensor_noise else None
     result = run_or_exit(lambda: run_replay(checkpoint, recording, blind or [], rrd=rrd, mcap=mcap, png=png,
-                                            spawn=spawn, force=force))
+                                            spawn=spawn, force=force, sensor_noise=noise))
     if not quiet:
         out.print(replay_table(result.metrics))
         written = ", ".join(str(p) for p in (rrd, mcap, png) if p is not None)

@@ -35,6 +35,6 @@ def arm_batch(config: Config, seeds: Optional[Sequence[int]] = None) -> ArmBatch
     seeds = list(seeds) if seeds is not None else [config.run.seed + i for i in range(config.run.arms)]
     drives = [drive_for_seed(config.excitation, s) for s in seeds]
     hanging = hanging_equilibrium(body)
-    starts = [initial_state(hanging, float(d.displacement(0.0)), float(d.velocity(0.0))) for d in drives]
+    starts = [initial_state(hanging, d) for d in drives]
     return ArmBatch(body=body, seeds=seeds, drives=drives, positions=np.stack([p for p, _ in starts]),
                     velocities=np.stack([v for _, v in starts]))

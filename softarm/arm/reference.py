@@ -17,7 +17,7 @@ def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velociti
 
     Semi-implicit (symplectic) Euler with `substeps` steps per frame: forces at the current state,
     then v += h F / m on the free nodes, then x += h v with the new v; after each step the driven
-    nodes are put at rest + (f(t), 0) with velocity (f'(t), 0).
+    nodes are put at rest + f(t) e with velocity f'(t) e (e: the drive's direction).
     """
     x = np.array(positions, dtype=np.float64)
     v = np.array(velocities, dtype=np.float64)
@@ -38,8 +38,8 @@ def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velociti
             v[free] += h * force[free] * inverse_mass
             x[free] += h * v[free]
             t_next = ((k * substeps + s + 1) / substeps) * frame_dt
-            x[body.driven] = body.rest[body.driven] + [drive.displacement(t_next), 0.0]
-            v[body.driven] = [drive.velocity(t_next), 0.0]
+            x[body.driven] = body.rest[body.driven] + drive.along(float(drive.displacement(t_next)))
+            v[body.driven] = drive.along(float(drive.velocity(t_next)))
     return out
 
 

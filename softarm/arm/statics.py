@@ -7,6 +7,7 @@ state; Stability and blow-up).
 import numpy as np
 
 from softarm.arm.body import Body
+from softarm.arm.drive import Drive
 from softarm.config import Config
 from softarm.errors import ConfigError
 
@@ -81,16 +82,16 @@ def max_stable_substep(body: Body) -> float:
     return float((-2 * g + np.sqrt(4 * g * g + 16 * w2)) / (2 * w2))
 
 
-def initial_state(hanging: np.ndarray, displacement: float, velocity: float) -> tuple[np.ndarray, np.ndarray]:
+def initial_state(hanging: np.ndarray, drive: Drive) -> tuple[np.ndarray, np.ndarray]:
     """Start state for a drive that is at (f(t0), f'(t0)) at t = 0.
 
-    Gravity is vertical, so the hanging equilibrium shifted sideways by f(t0) is still an
+    Gravity is uniform, so the hanging equilibrium shifted by f(t0) along the drive is still an
     equilibrium; giving every node the top's velocity f'(t0) makes the whole arm move with the drive
     at t = 0 instead of being jerked by it. For the paper's run (t0 = 0) this is the plain hanging arm.
     """
-    positions = hanging + np.array([displacement, 0.0])
+    positions = hanging + drive.along(float(drive.displacement(0.0)))
     velocities = np.zeros_like(hanging)
-    velocities[:, 0] = velocity
+    velocities[:] = drive.along(float(drive.velocity(0.0)))
     return positions, velocities
 
 

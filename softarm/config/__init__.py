@@ -6,7 +6,9 @@ them and dotted-key overrides; everything is validated before anything runs.
 
 from softarm.config.load import DEFAULT_CONFIG_TEXT, config_from_dict, load_config
 from softarm.config.schema import (BodyConfig, CameraConfig, Config, ExcitationConfig, IntegrationConfig, RunConfig,
-                                   SensorsConfig, SpringsConfig, TrainConfig)
+                                   SensingConfig, SensorsConfig, SpringsConfig, SumOfSinesConfig,
+                                   TrainConfig)
 
 __all__ = ["DEFAULT_CONFIG_TEXT", "BodyConfig", "CameraConfig", "Config", "ExcitationConfig", "IntegrationConfig",
-           "RunConfig", "SensorsConfig", "SpringsConfig", "TrainConfig", "config_from_dict", "load_config"]
+           "RunConfig", "SensingConfig", "SensorsConfig", "SpringsConfig", "SumOfSinesConfig", "TrainConfig",
+           "config_from_dict", "load_config"]

@@ -1,11 +1,13 @@
 """Ranges every simulation and training needs to be meaningful, with messages that name the key."""
 
+import math
 from typing import Any
 
-from softarm.config.schema import Config
+from softarm.config.schema import Config, ExcitationConfig, SensingConfig
 from softarm.errors import ConfigError
 
 INTEGRATORS = ("symplectic_euler",)
+EXCITATION_KINDS = ("product_of_sines", "sum_of_sines")
 
 
 def _require(ok: bool, key: str, value: Any, allowed: str) -> None:
@@ -23,13 +25,13 @@ def check_ranges(c: Config) -> None:
         _require(value > 0, f"body.{key}", value, "must be > 0")
     _require(c.springs.stiffness > 0, "springs.stiffness", c.springs.stiffness, "must be > 0")
     _require(c.springs.damping >= 0, "springs.damping", c.springs.damping, "must be >= 0")
-    _require(e.amplitude >= 0, "excitation.amplitude", e.amplitude, "must be >= 0")
-    _require(len(e.frequencies) >= 1, "excitation.frequencies", list(e.frequencies), "must list at least one frequency")
+    _check_excitation(e)
     _require(e.offset_range >= 0, "excitation.offset_range", e.offset_range, "must be >= 0")
     _require(0 <= e.amplitude_jitter < 1, "excitation.amplitude_jitter", e.amplitude_jitter, "must be in [0, 1)")
     _require(len(c.sensors.pairs) >= 1, "sensors.pairs", [], "must list at least one [a, b] node pair")
     for k, (a, bb) in enumerate(c.sensors.pairs):
         _require(a != bb, f"sensors.pairs[{k}]", [a, bb], "a sensor must join two different nodes")
+    _check_sensing(c.sensing)
     _require(cam.width >= 1, "camera.width", cam.width, "must be >= 1")
     _require(cam.height >= 1, "camera.height", cam.height, "must be >= 1")
     _require(cam.pixels_per_metre > 0, "camera.pixels_per_metre", cam.pixels_per_metre, "must be > 0")
@@ -51,3 +53,35 @@ def check_ranges(c: Config) -> None:
         _require(getattr(t, key) > 0, f"train.{key}", getattr(t, key), "must be > 0")
     _require(0 <= t.min_feature_std < 1, "train.min_feature_std", t.min_feature_std, "must be in [0, 1)")
     _require(t.seed >= 0, "train.seed", t.seed, "must be >= 0")
+
+
+def _check_sensing(s: SensingConfig) -> None:
+    for key in ("noise", "bias", "drift", "quantisation", "dropout_time"):
+        _require(getattr(s, key) >= 0, f"sensing.{key}", getattr(s, key), "must be >= 0")
+    _require(s.seed >= 0, "sensing.seed", s.seed, "must be >= 0")
+    _require(s.dropout_sensor >= -1, "sensing.dropout_sensor", s.dropout_sensor, "must be a sensor index, or -1 for none")
+    if s.pairs:
+        _require(s.dropout_sensor < len(s.pairs), "sensing.dropout_sensor", s.dropout_sensor,
+                 f"must be -1 or an index into sensing.pairs (0..{len(s.pairs) - 1})")
+    for k, (a, b) in enumerate(s.pairs):
+        _require(a != b, f"sensing.pairs[{k}]", [a, b], "a sensor must join two different nodes")
+
+
+def _check_excitation(e: ExcitationConfig) -> None:
+    _require(e.kind in EXCITATION_KINDS, "excitation.kind", e.kind, f"must be one of {list(EXCITATION_KINDS)}")
+    norm = math.hypot(*e.direction)
+    _require(abs(norm - 1) < 1e-9, "excitation.direction", list(e.direction),
+             f"must be a unit vector (its length is {norm:.6g}), e.g. [1.0, 0.0] sideways or [0.0, 1.0] up")
+    _require(e.amplitude >= 0, "excitation.amplitude", e.amplitude, "must be >= 0")
+    _require(len(e.frequencies) >= 1, "excitation.frequencies", list(e.frequencies), "must list at least one frequency")
+    s = e.sum_of_sines
+    key = "excitation.sum_of_sines"
+    _require(len(s.band) == 2 and 0 < s.band[0] < s.band[1], f"{key}.band", list(s.band),
+             "must be [f_min, f_max] with 0 < f_min < f_max (Hz)")
+    _require(s.components >= 1, f"{key}.components", s.components, "must be >= 1")
+    _require(s.rms >= 0, f"{key}.rms", s.rms, "must be >= 0 (m)")
+    lengths = {len(s.amplitudes), len(s.frequencies), len(s.phases)}
+    _require(len(lengths) == 1, f"{key}.amplitudes", list(s.amplitudes),
+             "amplitudes, frequencies and phases must list one value per component (or all be empty)")
+    _require(all(f > 0 for f in s.frequencies), f"{key}.frequencies", list(s.frequencies), "must all be > 0 (Hz)")
+    _require(all(a >= 0 for a in s.amplitudes), f"{key}.amplitudes", list(s.amplitudes), "must all be >= 0 (m)")

@@ -51,10 +51,14 @@ def _read_toml(path: Path) -> dict[str, Any]:
 
 
 def nest(dotted: dict[str, Any]) -> dict[str, Any]:
+    """{"a.b.c": 1} -> {"a": {"b": {"c": 1}}}: dotted override keys as the nested tables of a file."""
     out: dict[str, Any] = {}
     for key, value in dotted.items():
-        section, _, name = key.rpartition(".")
-        out.setdefault(section, {})[name] = value
+        *tables, name = key.split(".")
+        table = out
+        for part in tables:
+            table = table.setdefault(part, {})
+        table[name] = value
     return out
 
 

@@ -28,17 +28,42 @@ class SpringsConfig:
 
 
 @dataclass(frozen=True)
+class SumOfSinesConfig:
+    amplitudes: tuple[float, ...]
+    frequencies: tuple[float, ...]
+    phases: tuple[float, ...]
+    band: tuple[float, ...]
+    components: int
+    rms: float
+
+
+@dataclass(frozen=True)
 class ExcitationConfig:
+    kind: str
+    direction: tuple[float, float]
     amplitude: float
     frequencies: tuple[float, ...]
     time_offset: float
     offset_range: float
     amplitude_jitter: float
+    sum_of_sines: SumOfSinesConfig
 
 
 @dataclass(frozen=True)
 class SensorsConfig:
     pairs: tuple[tuple[int, int], ...]
+
+
+@dataclass(frozen=True)
+class SensingConfig:
+    pairs: tuple[tuple[int, int], ...]
+    noise: float
+    bias: float
+    drift: float
+    quantisation: float
+    dropout_sensor: int
+    dropout_time: float
+    seed: int
 
 
 @dataclass(frozen=True)
@@ -89,6 +114,7 @@ class Config:
     springs: SpringsConfig
     excitation: ExcitationConfig
     sensors: SensorsConfig
+    sensing: SensingConfig
     camera: CameraConfig
     integration: IntegrationConfig
     run: RunConfig

@@ -5,24 +5,27 @@ fused view of camera blackouts, metrics); `softarm.view` and `softarm.imagine.re
 it out.
 """
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 
-from softarm.learn.checkpoint import load_checkpoint
+from softarm.learn.checkpoint import checkpoint_config, load_checkpoint
 from softarm.imagine.blind import blind_mask, fused_scores
 from softarm.imagine.imaginer import Imaginer
 from softarm.learn.fits import check_recording_fits_checkpoint
 from softarm.learn.metrics import frame_scores, summarise
 from softarm.record.reader import Recording, read_model, read_recording
+from softarm.sense.reading import needs_nodes, sensed_stretch
 
 
 @dataclass(frozen=True)
 class Replay:
     recording: Recording
     checkpoint: Path
+    stretch: np.ndarray    # (T, P) what the imagination read: the sensors as the checkpoint reads them
     imagined: np.ndarray   # (T, H, W) probabilities; 0 where nothing is imagined yet
     predicted: np.ndarray  # (T,) bool: frames with an imagination (all but the first history (+1) ones)
     iou: np.ndarray        # (T,) imagination IoU per frame, NaN where nothing is imagined
@@ -37,18 +40,24 @@ class Replay:
 
 
 def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
-           blind: Sequence[tuple[float, float]] = (), nodes: bool = True) -> Replay:
+           blind: Sequence[tuple[float, float]] = (), nodes: bool = True,
+                   sensor_noise: Optional[dict[str, Any]] = None) -> Replay:
     """Imagine every frame of `recording` from its stretch signals and score it against the camera.
 
-    nodes=False skips the node positions (only the Rerun view draws them; they are a third of the reading).
+    The sensors are read as the checkpoint was trained to read them, with `sensor_noise` (keys of the
+    [sensing] section but pairs) replacing its imperfections. nodes=False skips the node positions
+    (only the Rerun view draws them; they are a third of the reading).
     """
     checkpoint = Path(checkpoint)
     state = load_checkpoint(checkpoint)
-    check_recording_fits_checkpoint(state, read_model(recording), str(recording), str(checkpoint))
-    rec = read_recording(recording, nodes=nodes)
+    config = checkpoint_config(state)
+    sensing = config.replace(**{f"sensing.{k}": v for k, v in (sensor_noise or {}).items()}).sensing
+    check_recording_fits_checkpoint(state, read_model(recording), str(recording), str(checkpoint), sensing)
+    rec = read_recording(recording, nodes=nodes or needs_nodes(sensing))
+    stretch = sensed_stretch(rec, sensing)
     mask = blind_mask(rec.times, blind)
     imaginer = Imaginer.from_checkpoint(state)
-    targets, probs = imaginer.imagine(rec.stretch)
+    targets, probs = imaginer.imagine(stretch)
     imagined = np.zeros(rec.frames.shape, np.float32)
     imagined[targets] = probs
     predicted = np.zeros(len(rec.times), bool)
@@ -62,12 +71,12 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     last = rec.times >= rec.times[-1] - 5.0 + 1e-9  # the paper's last 5 s
     metrics = {
         "recording": str(rec.path), "frames": int(len(rec.times)), "predicted_frames": int(predicted.sum()),
-        "blind_frames": int(mask.sum()),
+        "blind_frames": int(mask.sum()), "sensing": dataclasses.asdict(sensing),
         **{key: summarise(imagination, predicted & subset) if (predicted & subset).any() else None
            for key, subset in (("imagination", predicted), ("imagination_last_5s", last),
                                ("imagination_blind", mask), ("imagination_seeing", ~mask))},
         "fused": summarise(fused_scores(imagination, rec.frames, mask)),
     }
-    return Replay(recording=rec, checkpoint=checkpoint, imagined=imagined, predicted=predicted, iou=iou,
+    return Replay(recording=rec, checkpoint=checkpoint, stretch=stretch, imagined=imagined, predicted=predicted, iou=iou,
                   blind=mask, fused=fused, metrics=metrics,
                   nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if nodes else None)

@@ -36,10 +36,11 @@ class ReplayOutcome:
 
 def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (), rrd: Optional[PathLike] = None,
            mcap: Optional[PathLike] = None, png: Optional[PathLike] = None, spawn: bool = False,
-           force: bool = False) -> ReplayOutcome:
+           force: bool = False, sensor_noise: Optional[dict[str, Any]] = None) -> ReplayOutcome:
     """Imagine every frame of `recording` with `checkpoint` and score it; write the outputs asked for.
 
-    `blind` takes camera blackouts as 'START:END' seconds. Every output is checked before the replay
+    `blind` takes camera blackouts as 'START:END' seconds; `sensor_noise` replaces the imperfections the
+    checkpoint was trained with (keys of the [sensing] config section). Every output is checked before the replay
     starts, so a refused path costs nothing; each is written whole or not at all.
     """
     from softarm.imagine.replay import compute_replay  # torch loads here, not when softarm is imported
@@ -50,7 +51,7 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
         raise OutputError("--rrd, --mcap and --png must name different files")
     check_outputs(outputs, force)
     timeline = rrd is not None or spawn
-    result = compute_replay(checkpoint, recording, parse_blind(blind), nodes=timeline)
+    result = compute_replay(checkpoint, recording, parse_blind(blind), nodes=timeline, sensor_noise=sensor_noise)
     if timeline or mcap is not None:
         from softarm.view.images import probability_bytes
 

@@ -13,6 +13,8 @@ from typing import Any, Union
 
 import torch
 
+from softarm.config import Config, config_from_dict, load_config
+from softarm.config.load import merge
 from softarm.errors import CheckpointError
 from softarm.files import atomic_path
 
@@ -39,3 +41,9 @@ def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:
     if not isinstance(state, dict) or state.get("format") != FORMAT:
         raise CheckpointError(f"{path} is not a softarm checkpoint (expected format {FORMAT})")
     return state
+
+
+def checkpoint_config(state: dict[str, Any]) -> Config:
+    """The config a checkpoint was trained with, read over today's defaults so that keys added since
+    (a checkpoint written before the [sensing] section, say) take their default values."""
+    return config_from_dict(merge(load_config().to_dict(), state["config"]))

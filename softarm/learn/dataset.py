@@ -11,11 +11,12 @@ from typing import Optional, Sequence, Union
 
 import numpy as np
 
-from softarm.config import TrainConfig
+from softarm.config import SensingConfig, TrainConfig
 from softarm.errors import RecordingError
 from softarm.files import fingerprint
 from softarm.learn.fits import check_fits
 from softarm.record.reader import read_recording
+from softarm.sense.reading import needs_nodes, sensed_stretch
 
 
 @dataclass(frozen=True)
@@ -90,16 +91,17 @@ def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
     return round(n_frames * train.train_fraction), round(n_frames * (train.train_fraction + train.test_fraction))
 
 
-def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig) -> Dataset:
-    """Read recordings (all of one image shape and sensor count) and split each by time."""
+def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing: SensingConfig) -> Dataset:
+    """Read recordings (all of one image shape and sensor count), each as `sensing` reads its sensors,
+    and split each by time."""
     if not paths:
         raise RecordingError("give at least one recording")
     sequences = []
     for path in map(Path, paths):
-        rec = read_recording(path, nodes=False)
+        rec = read_recording(path, nodes=needs_nodes(sensing))
         seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=rec.frames,
-                        stretch=rec.stretch.astype(np.float32), times=rec.times,
-                        bounds=split_bounds(len(rec.times), train))
+                      stretch=sensed_stretch(rec, sensing).astype(np.float32), times=rec.times,
+                      bounds=split_bounds(len(rec.times), train))
         if sequences:
             first = sequences[0]
             check_fits(seq.name, seq.frames.shape[1:], seq.stretch.shape[1], first.frames.shape[1:],

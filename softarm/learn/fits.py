@@ -6,7 +6,9 @@ the checkpoint. Either way the one-line refusal says what differs.
 
 from typing import Any, Sequence
 
+from softarm.config import SensingConfig
 from softarm.errors import RecordingError
+from softarm.sense.reading import sensor_count
 
 
 def check_fits(name: str, image_shape: Sequence[int], sensor_count: int, expected_shape: Sequence[int],
@@ -23,7 +25,8 @@ def check_fits(name: str, image_shape: Sequence[int], sensor_count: int, expecte
 
 
 def check_recording_fits_checkpoint(state: dict[str, Any], model: dict[str, Any], recording: str,
-                                    checkpoint: str) -> None:
-    """Refuse a recording (by its model document) whose camera or sensors differ from the checkpoint's."""
-    check_fits(recording, (model["camera"]["height"], model["camera"]["width"]), len(model["sensors"]),
+                                    checkpoint: str, sensing: SensingConfig) -> None:
+    """Refuse a recording (by its model document) whose camera or sensors, as `sensing` reads them,
+    differ from the checkpoint's."""
+    check_fits(recording, (model["camera"]["height"], model["camera"]["width"]), sensor_count(model, sensing),
                state["image_shape"], state["sensor_count"], checkpoint, trained=True)

@@ -14,10 +14,10 @@ from typing import Any, Optional, Sequence, Union
 import torch
 
 from softarm import __version__
-from softarm.config import Config, config_from_dict
+from softarm.config import Config
 from softarm.errors import CheckpointError
 from softarm.learn.codes import LatentCodes
-from softarm.learn.checkpoint import load_checkpoint, save_checkpoint
+from softarm.learn.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
 from softarm.learn.dataset import Dataset, load_dataset
 from softarm.learn.models import Autoencoder, StretchToLatent
 from softarm.learn.scaler import Scaler
@@ -100,7 +100,7 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
     if saved is not None:
         config = _saved_config(saved, config)
     t = config.train
-    data = load_dataset(paths, t)
+    data = load_dataset(paths, t, config.sensing)
     torch.manual_seed(t.seed)
     autoencoder = Autoencoder(*data.image_shape, t.latent)
     state = TrainState(config, data, autoencoder, torch.optim.Adam(autoencoder.parameters(), lr=t.lr_ae))
@@ -111,7 +111,7 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
 
 def _saved_config(saved: dict[str, Any], asked: Config) -> Config:
     """The saved run's config; training settings asked for now that differ from it are named and ignored."""
-    config = config_from_dict(saved["config"])
+    config = checkpoint_config(saved)
     ignored = {k: v for k, v in dataclasses.asdict(asked.train).items() if getattr(config.train, k) != v}
     if ignored:
         warnings.warn("--resume continues with the saved run's settings; ignored: "

@@ -1,8 +1,8 @@
-"""The softarm-recording/1 format (docs/recording.md): topics, schemas and metadata names, shared by writer and reader."""
+"""The softarm-recording/2 format (docs/recording.md): topics, schemas and metadata names, shared by writer and reader."""
 
 import orjson
 
-FORMAT = "softarm-recording/1"
+FORMAT = "softarm-recording/2"
 FORMAT_NAME, FORMAT_VERSION = FORMAT.split("/")
 FORMAT_VERSION_NUMBER = int(FORMAT_VERSION)
 
@@ -40,6 +40,6 @@ JSON_SCHEMAS = {
         {"positions": {"type": "array", "items": {**_NUMBERS, "minItems": 2, "maxItems": 2},
                        "description": "[x, y] per node, m (y up)"}})),
     EXCITATION: ("softarm.Excitation", json_schema(
-        "softarm.Excitation", "Horizontal displacement of the driven nodes, f(t + t0)",
-        {"displacement": {"type": "number", "description": "m"}})),
+        "softarm.Excitation", "Displacement of the driven nodes along the drive direction, f(t + t0)",
+        {"displacement": {"type": "number", "description": "m, along the excitation direction of the metadata"}})),
 }

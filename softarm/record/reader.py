@@ -1,4 +1,4 @@
-"""Reads softarm-recording/1 MCAP files into arrays for the learning code.
+"""Reads softarm-recording/2 (and /1) MCAP files into arrays for the learning code.
 
 Reads the file front to back with MCAP's stream reader rather than through its summary, so a file cut
 short (a crash, a full disk) still gives every frame of every complete chunk; such a recording is
@@ -159,9 +159,12 @@ def _model(record: Metadata, path: Path) -> dict[str, Any]:
     if int(version) > FORMAT_VERSION_NUMBER:
         raise RecordingError(f"{path} is written in {fmt}, newer than this softarm reads ({FORMAT}): upgrade softarm")
     try:
-        return orjson.loads(record.metadata["model"])
+        model = orjson.loads(record.metadata["model"])
     except (KeyError, orjson.JSONDecodeError):
         raise RecordingError(f"{path}: the '{META_MODEL}' metadata has no readable model document") from None
+    if int(version) == 1:  # /1 predates the excitation kinds: its drive is the paper's, sideways
+        model["excitation"] = {"kind": "product_of_sines", "direction": [1.0, 0.0], **model.get("excitation", {})}
+    return model
 
 
 def _json(messages: dict[int, bytes], stamps: list[int]) -> list[Any]:

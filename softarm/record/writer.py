@@ -1,4 +1,4 @@
-"""Writes one arm's run as a softarm-recording/1 MCAP file (docs/recording.md).
+"""Writes one arm's run as a softarm-recording/2 MCAP file (docs/recording.md).
 
 The file grows as `<name>.mcap.part` and is renamed when it is closed, so a path without `.part`
 is always a whole file: closed normally (`complete = "true"`), or on Ctrl-C with every frame
@@ -33,8 +33,7 @@ def model_metadata(config: Config, body: Body, drive: Drive, seed: int,
         "damping": body.damping.tolist(),
         "driven": body.driven.tolist(),
         "gravity": body.gravity.tolist(),
-        "excitation": {"amplitude": drive.amplitude, "frequencies": list(drive.frequencies),
-                       "time_offset": drive.time_offset},
+        "excitation": drive.parameters(),
         "sensors": body.sensors.tolist(),
         "outline": body.outline.tolist(),
         "camera": {"width": config.camera.width, "height": config.camera.height,

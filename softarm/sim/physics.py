@@ -12,22 +12,35 @@ import taichi as ti
 
 from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.body import Body
-from softarm.arm.drive import Drive
+from softarm.arm.drive import KIND_CODES, Drive
 from softarm.config import Config
 from softarm.errors import SimulationError
 from softarm.sim.runtime import task_layout
 
 
 @ti.func
-def drive_at(t: ti.f64, amplitude: ti.f64, freqs: ti.template()) -> ti.math.vec2:
-    """(f(t), f'(t)) of the product of sines, by the product rule."""
+def product_of_sines(t: ti.f64, amplitude: ti.f64, a: int, freqs: ti.template()) -> ti.math.vec2:
+    """(f(t), f'(t)) of A prod_i sin(w_i t), by the product rule."""
     value = amplitude
     rate = 0.0
-    for n in range(freqs.shape[0]):
-        w = 2.0 * ti.math.pi * freqs[n]
+    for n in range(freqs.shape[1]):
+        w = 2.0 * ti.math.pi * freqs[a, n]
         s, c = ti.sin(w * t), ti.cos(w * t)
         rate = rate * s + value * w * c
         value = value * s
+    return ti.Vector([value, rate], ti.f64)
+
+
+@ti.func
+def sum_of_sines(t: ti.f64, a: int, freqs: ti.template(), amps: ti.template(), phases: ti.template()) -> ti.math.vec2:
+    """(f(t), f'(t)) of sum_i a_i sin(w_i t + phi_i)."""
+    value = 0.0
+    rate = 0.0
+    for n in range(freqs.shape[1]):
+        w = 2.0 * ti.math.pi * freqs[a, n]
+        phase = w * t + phases[a, n]
+        value += amps[a, n] * ti.sin(phase)
+        rate += amps[a, n] * w * ti.cos(phase)
     return ti.Vector([value, rate], ti.f64)
 
 
@@ -51,17 +64,23 @@ def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.temp
 
 
 @ti.func
-def substep(a: int, t: ti.f64, h: ti.f64, x: ti.template(), v: ti.template(), force: ti.template(),
+def substep(a: int, t: ti.f64, h: ti.f64, kind: int, x: ti.template(), v: ti.template(), force: ti.template(),
             rest: ti.template(), mass: ti.template(), free: ti.template(), amplitude: ti.template(),
-            freqs: ti.template()):
-    drive = drive_at(t, amplitude[a], freqs)
+            freqs: ti.template(), amps: ti.template(), phases: ti.template(), direction: ti.template()):
+    drive = ti.Vector([0.0, 0.0], ti.f64)
+    if kind == 0:
+        drive = product_of_sines(t, amplitude[a], a, freqs)
+    else:
+        drive = sum_of_sines(t, a, freqs, amps, phases)
+    e = direction[None]
     for i in range(x.shape[1]):
         if free[i]:
             v[a, i] = v[a, i] + h * force[a, i] / mass[i]
             x[a, i] = x[a, i] + h * v[a, i]
         else:
-            x[a, i] = rest[i] + ti.Vector([drive[0], 0.0], ti.f64)
-            v[a, i] = ti.Vector([drive[1], 0.0], ti.f64)
+            for k in ti.static(range(2)):  # an axis the drive does not move stays exactly at rest (-0.0 too)
+                x[a, i][k] = rest[i][k] + drive[0] * e[k] if e[k] != 0.0 else rest[i][k]
+                v[a, i][k] = drive[1] * e[k] if e[k] != 0.0 else 0.0
 
 
 @ti.func
@@ -88,13 +107,16 @@ class Simulator:
     def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
                  blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100):
         arms, n, springs = len(drives), body.n_nodes, len(body.springs)
-        if len({d.frequencies for d in drives}) != 1:
-            raise ValueError("all arms of a batch share the excitation frequencies")
+        if len({(d.kind, d.direction, len(d.frequencies)) for d in drives}) != 1:
+            raise ValueError("all arms of a batch share the excitation kind, direction and component count")
+        self.kind = KIND_CODES[drives[0].kind]
         self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
         self.arms, self.block_frames, self.frame = arms, block_frames, 0
         self.x, self.v, self.force, self.rest, self.positions = (ti.Vector.field(2, ti.f64) for _ in range(5))
         self.springs, self.spring_params = ti.Vector.field(2, ti.i32), ti.Vector.field(3, ti.f64)
-        self.mass, self.amplitude, self.time_offset, self.freqs = (ti.field(ti.f64) for _ in range(4))
+        self.mass, self.amplitude, self.time_offset = (ti.field(ti.f64) for _ in range(3))
+        self.freqs, self.amps, self.phases = (ti.field(ti.f64) for _ in range(3))
+        self.direction = ti.Vector.field(2, ti.f64, shape=())
         self.free, self.status = ti.field(ti.i32), ti.field(ti.i32)
         builder = ti.FieldsBuilder()
         builder.dense(ti.ij, (arms, n)).place(self.x, self.v, self.force)
@@ -103,13 +125,16 @@ class Simulator:
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
-        builder.dense(ti.i, len(drives[0].frequencies)).place(self.freqs)
+        builder.dense(ti.ij, (arms, len(drives[0].frequencies))).place(self.freqs, self.amps, self.phases)
         self._tree = builder.finalize()
         fill = {self.x: np.broadcast_to(positions, (arms, n, 2)), self.v: np.broadcast_to(velocities, (arms, n, 2)),
                 self.rest: body.rest, self.mass: body.masses,
                 self.spring_params: np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1),
                 self.amplitude: [d.amplitude for d in drives], self.time_offset: [d.time_offset for d in drives],
-                self.freqs: drives[0].frequencies}
+                self.freqs: [d.frequencies for d in drives],
+                self.amps: [d.amplitudes or np.zeros(len(d.frequencies)) for d in drives],
+                self.phases: [d.phases or np.zeros(len(d.frequencies)) for d in drives],
+                self.direction: drives[0].direction}
         for field, values in fill.items():
             field.from_numpy(np.ascontiguousarray(values, np.float64))
         for field, values in {self.status: np.full((arms, 2), -1), self.free: body.free, self.springs: body.springs}.items():
@@ -127,7 +152,7 @@ class Simulator:
 
     @ti.kernel
     def _advance(self, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32, frame_dt: ti.f64,
-                 blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, tasks: ti.i32, spacing: ti.i32):
+                 blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, kind: ti.i32, tasks: ti.i32, spacing: ti.i32):
         """Record each arm's state as frames first_frame.. into positions[:, :n_frames], stepping between them.
 
         Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
@@ -150,8 +175,8 @@ class Simulator:
                                 accumulate_forces(a, self.x, self.v, self.force, self.springs, self.spring_params,
                                                   self.mass, gx, gy)
                                 t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + self.time_offset[a]
-                                substep(a, t, h, self.x, self.v, self.force, self.rest, self.mass, self.free,
-                                        self.amplitude, self.freqs)
+                                substep(a, t, h, kind, self.x, self.v, self.force, self.rest, self.mass, self.free,
+                                        self.amplitude, self.freqs, self.amps, self.phases, self.direction)
                             far = first_far_node(a, self.x, self.rest, self.free, blowup_distance)
                             if far >= 0:
                                 self.status[a, 0] = k + 1
@@ -163,7 +188,7 @@ class Simulator:
             raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
         gx, gy = self.body.gravity
         self._advance(self.frame, n_frames, self.substeps, self.frame_dt, self.blowup_distance, float(gx), float(gy),
-                      *self._tasks)
+                      self.kind, *self._tasks)
         self.history = self.positions.to_numpy()
         self.frame += n_frames
         self._raise_on_blowup()

@@ -70,9 +70,8 @@ def _log_images(rec: rr.RecordingStream, result: Any, imagined_bytes: Optional[n
 
 def _log_signals(rec: rr.RecordingStream, result: Any) -> None:
     times = [rr.TimeColumn("sim_time", duration=result.times)]
-    for i in range(result.recording.stretch.shape[1]):
-        rec.send_columns(f"signals/stretch/{i}", indexes=times,
-                         columns=rr.Scalars.columns(scalars=result.recording.stretch[:, i]))
+    for i in range(result.stretch.shape[1]):  # what the imagination read: imperfections included
+        rec.send_columns(f"signals/stretch/{i}", indexes=times, columns=rr.Scalars.columns(scalars=result.stretch[:, i]))
     rec.send_columns("signals/excitation", indexes=times,
                      columns=rr.Scalars.columns(scalars=result.recording.displacement))
     seen = result.predicted

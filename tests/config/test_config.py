@@ -28,11 +28,16 @@ def test_config_round_trips_through_its_dict():
 
 
 def test_every_default_key_is_documented_in_the_default_file():
-    c = load_config().to_dict()
-    for section, values in c.items():
-        assert f"[{section}]" in DEFAULT_CONFIG_TEXT
-        for key in values:
-            assert f"\n{key} = " in DEFAULT_CONFIG_TEXT, key
+    def check(table: str, values: dict) -> None:
+        assert f"[{table}]" in DEFAULT_CONFIG_TEXT, table
+        for key, value in values.items():
+            if isinstance(value, dict):
+                check(f"{table}.{key}", value)
+            else:
+                assert f"\n{key} = " in DEFAULT_CONFIG_TEXT, f"{table}.{key}"
+
+    for section, values in load_config().to_dict().items():
+        check(section, values)
 
 
 @pytest.mark.parametrize("overrides, words", [
@@ -43,6 +48,21 @@ def test_every_default_key_is_documented_in_the_default_file():
     ({"sensors.pairs": [[4, 4]]}, ["sensors.pairs[0]", "two different nodes"]),
     ({"excitation.frequencies": []}, ["excitation.frequencies", "at least one"]),
     ({"body.length": float("nan")}, ["body.length", "finite"]),
+    ({"excitation.kind": "square"}, ["excitation.kind", "product_of_sines", "sum_of_sines"]),
+    ({"excitation.direction": [1.0, 1.0]}, ["excitation.direction", "unit vector"]),
+    ({"excitation.direction": [0.0, 0.0]}, ["excitation.direction", "unit vector"]),
+    ({"excitation.sum_of_sines.band": [2.0, 2.0]}, ["excitation.sum_of_sines.band", "f_min < f_max"]),
+    ({"excitation.sum_of_sines.band": [-1.0, 2.0]}, ["excitation.sum_of_sines.band", "0 < f_min"]),
+    ({"excitation.sum_of_sines.band": [1.0]}, ["excitation.sum_of_sines.band"]),
+    ({"excitation.sum_of_sines.rms": -0.001}, ["excitation.sum_of_sines.rms", ">= 0"]),
+    ({"excitation.sum_of_sines.components": 0}, ["excitation.sum_of_sines.components", ">= 1"]),
+    ({"excitation.sum_of_sines.amplitudes": [0.001], "excitation.sum_of_sines.frequencies": [1.0, 2.0],
+      "excitation.sum_of_sines.phases": [0.0]}, ["excitation.sum_of_sines.amplitudes", "one value per component"]),
+    ({"excitation.sum_of_sines.amplitudes": [0.001], "excitation.sum_of_sines.frequencies": [0.0],
+      "excitation.sum_of_sines.phases": [0.0]}, ["excitation.sum_of_sines.frequencies", "> 0"]),
+    ({"sensing.noise": -1e-6}, ["sensing.noise", ">= 0"]),
+    ({"sensing.dropout_sensor": -2}, ["sensing.dropout_sensor"]),
+    ({"sensing.pairs": [[1, 2]], "sensing.dropout_sensor": 1}, ["sensing.dropout_sensor", "0..0"]),
 ])
 def test_bad_values_name_the_key_and_what_is_allowed(overrides, words):
     with pytest.raises(ConfigError) as info:

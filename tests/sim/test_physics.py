@@ -27,6 +27,24 @@ def test_default_arm_matches_the_numpy_reference_over_five_seconds(seed):
     assert np.abs(got - expected).max() < 1e-7
 
 
+@pytest.mark.parametrize("direction", [[1.0, 0.0], [0.6, 0.8]])
+def test_a_sum_of_sines_arm_matches_the_numpy_reference_along_any_direction(direction):
+    config = load_config(overrides={"excitation.kind": "sum_of_sines", "excitation.direction": direction,
+                                    "excitation.sum_of_sines.band": [0.4, 3.0], "excitation.sum_of_sines.rms": 0.003})
+    batch = arm_batch(config, seeds=[0, 7])
+    i = config.integration
+    got = Simulator.from_config(config, batch).advance(300)
+    for arm in range(2):
+        drive, x, v = batch.drives[arm], batch.positions[arm], batch.velocities[arm]
+        expected = simulate_reference(batch.body, drive, x, v, i.frame_dt, i.substeps, 300)
+        assert np.abs(expected - x).max() > 5e-3  # the drive really moves the arm
+        assert np.abs(got[arm] - expected).max() < 1e-7
+        top = batch.body.driven
+        offsets = (got[arm][:, top] - batch.body.rest[top]) @ np.array(direction)
+        np.testing.assert_allclose(offsets, np.repeat(drive.displacement(np.arange(300) * i.frame_dt)[:, None],
+                                                      len(top), 1), atol=1e-15)
+
+
 def test_each_arm_of_a_batch_equals_its_single_arm_run():
     assert_batch_equals_single_runs(Simulator.from_config, tolerance=1e-12)
 

@@ -1,0 +1,75 @@
+"""Realistic sensor imperfections, applied to ideal stretch readings where they are read, not recorded.
+
+Each imperfection draws from its own child of one generator seeded by (seed, stream), so switching one
+on or off leaves the realisation of the others unchanged, and a study can vary one at a time.
+"""
+
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from softarm.config.schema import SensingConfig
+from softarm.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class SensorModel:
+    noise: float           # white noise: standard deviation of each sample, m
+    bias: float            # each sensor's constant offset is drawn from N(0, bias^2), m
+    drift: float           # random walk: standard deviation of its growth per sqrt(second), m/sqrt(s)
+    quantisation: float    # readings are rounded to multiples of this step, m (0: not rounded)
+    dropout_sensor: int    # this sensor (a column of the readings) is stuck from dropout_time on (-1: none)
+    dropout_time: float    # s
+    seed: int
+
+    @classmethod
+    def from_config(cls, sensing: SensingConfig) -> "SensorModel":
+        return cls(noise=sensing.noise, bias=sensing.bias, drift=sensing.drift, quantisation=sensing.quantisation,
+                   dropout_sensor=sensing.dropout_sensor, dropout_time=sensing.dropout_time, seed=sensing.seed)
+
+    @property
+    def ideal(self) -> bool:
+        """Nothing is applied: the readings are the recorded ones."""
+        return (self.noise == 0 and self.bias == 0 and self.drift == 0 and self.quantisation == 0
+                and self.dropout_sensor < 0)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values, for metadata and JSON."""
+        return asdict(self)
+
+    def apply(self, stretch: np.ndarray, times: np.ndarray, stream: int = 0) -> np.ndarray:
+        """Imperfect (T, P) float64 readings from ideal ones (T, P) m sampled at times (T,) s.
+
+        In order: bias, drift, white noise, quantisation, dropout. `stream` gives each recording its own
+        realisation (callers pass, for example, the recording's simulation seed).
+        """
+        out = np.array(stretch, np.float64)
+        if self.ideal:
+            return out
+        times = np.asarray(times, np.float64)
+        if out.ndim != 2 or times.shape != (out.shape[0],):
+            raise ValueError(f"readings {out.shape} and times {times.shape} must be (T, P) and (T,)")
+        bias_rng, drift_rng, noise_rng = np.random.default_rng([self.seed, stream]).spawn(3)
+        n_sensors = out.shape[1]
+        if self.bias > 0:
+            out += bias_rng.normal(0.0, self.bias, n_sensors)
+        if self.drift > 0:
+            scale = self.drift * np.sqrt(np.diff(times))[:, None]  # the walk's standard deviation over each step
+            out[1:] += np.cumsum(drift_rng.normal(0.0, 1.0, (len(scale), n_sensors)) * scale, axis=0)
+        if self.noise > 0:
+            out += noise_rng.normal(0.0, self.noise, out.shape)
+        if self.quantisation > 0:
+            out = np.round(out / self.quantisation) * self.quantisation
+        if self.dropout_sensor >= 0:
+            self._drop_out(out, times)
+        return out
+
+    def _drop_out(self, out: np.ndarray, times: np.ndarray) -> None:
+        """From the first sample at or after dropout_time, the sensor repeats the last value it read before it."""
+        if self.dropout_sensor >= out.shape[1]:
+            raise ConfigError(f"config key 'sensing.dropout_sensor' = {self.dropout_sensor} is out of range: "
+                              f"the readings have sensors 0..{out.shape[1] - 1}")
+        start = int(np.searchsorted(times, self.dropout_time, side="left"))
+        if start < len(times):
+            out[start:, self.dropout_sensor] = out[max(start - 1, 0), self.dropout_sensor]
