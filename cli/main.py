@@ -13,6 +13,7 @@ from softarm.config import DEFAULT_CONFIG_TEXT, load_config
 from softarm.errors import SoftarmError
 from softarm.sense.reading import parse_imperfections
 from softarm.sim import ARCHS
+from softarm.suite.families import SUITE_VERSION, level_seeds
 from softarm_cli.progress import LazyProgress
 
 # Plain help (no rich markup): rich would read every "[default: ...]" as a markup tag and drop it,
@@ -193,6 +194,53 @@ def replay(
         written = ", ".join(str(p) for p in (rrd, mcap, png) if p is not None)
         out.print(f"replayed {result.metrics['frames']} frames in {result.wall_seconds:.1f} s "
                   f"({result.real_time_factor:.0f}x real time)" + (f"; wrote {written}" if written else ""), markup=False)
+
+
+@app.command()
+def suite(
+    folder: Annotated[Path, typer.Argument(metavar="DIR", help="Folder for the suite's recordings and suite.json.")],
+    arch: Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")] = "cpu",
+    force: Annotated[bool, typer.Option("--force", help="Write over a suite already in DIR.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no summary.")] = False,
+) -> None:
+    """Write the held-out imagination suite: every family and level from its reserved seeds (no corpus uses them).
+
+    \b
+    Example: softarm suite recordings/suite
+    """
+    from softarm.suite.build import write_suite
+
+    with LazyProgress(err, "suite", len(level_seeds()), "levels", quiet=quiet) as bar:
+        manifest = run_or_exit(lambda: write_suite(folder, force=force, arch=arch,
+                                                   progress=lambda done, _: bar.update(done)))
+    if not quiet:
+        out.print(f"wrote {SUITE_VERSION} to {folder} ({manifest.name} and its recordings)", markup=False)
+
+
+@app.command()
+def evaluate(
+    checkpoint: Annotated[Path, typer.Argument(metavar="CHECKPOINT", help="Checkpoint from `softarm train`.")],
+    suite_folder: Annotated[Path, typer.Argument(metavar="SUITE_DIR", help="Folder written by `softarm suite`.")],
+    json_path: Annotated[Optional[Path], typer.Option("--json", help="Write every family's scores as JSON.")] = None,
+    png: Annotated[Optional[Path], typer.Option("--png", help="Write the per-family IoU bars (model vs baselines).")] = None,
+    sensor_noise: Annotated[Optional[str], typer.Option("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP + " Replaces each level's own too.")] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite existing outputs.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")] = False,
+) -> None:
+    """Imagine every recording of the suite; print one row per family beside the mean-frame, ridge and AE-ceiling answers.
+
+    \b
+    Example: softarm evaluate recordings/seed0.pt recordings/suite --json suite.json --png suite.png
+    """
+    from softarm.suite.run import evaluate as run_evaluation
+    from softarm_cli.tables import suite_table
+
+    noise = run_or_exit(lambda: parse_imperfections(sensor_noise)) if sensor_noise else None
+    with LazyProgress(err, "evaluating", 1, "recordings", quiet=quiet) as bar:
+        evaluation = run_or_exit(lambda: run_evaluation(checkpoint, suite_folder, json_path=json_path, png=png,
+                                                        sensor_noise=noise, force=force, progress=bar.update))
+    if not quiet:
+        out.print(suite_table(evaluation))
 
 
 @app.command()

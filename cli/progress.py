@@ -12,9 +12,12 @@ class LazyProgress:
         self.progress: Progress | None = None
         self.task = None
 
-    def update(self, done: int, **fields: str) -> None:
+    def update(self, done: int, total: int | None = None, **fields: str) -> None:
+        """Show `done` of the total (which `total` may change, e.g. once a job knows its size)."""
         if self.quiet:
             return
+        if total is not None:
+            self.total = total
         if self.progress is None:
             self.progress = Progress(TextColumn(self.label), BarColumn(), MofNCompleteColumn(), TextColumn(self.unit),
                                      TextColumn("{task.fields[rate]}"), TextColumn("{task.fields[extra]}"),
@@ -23,7 +26,7 @@ class LazyProgress:
             self.task = self.progress.add_task(self.label, total=self.total, rate="", extra="")
         elapsed = self.progress.tasks[self.task].elapsed or 1e-9
         rate = f"{done * self.scale / elapsed:,.0f} {self.unit}/s"
-        self.progress.update(self.task, completed=done, rate=rate, extra=" ".join(fields.values()))
+        self.progress.update(self.task, completed=done, total=self.total, rate=rate, extra=" ".join(fields.values()))
 
     def close(self) -> None:
         if self.progress is not None:

@@ -1,7 +1,8 @@
 """softarm: a simulated soft arm that learns to picture its own body from its stretch sensors.
 
 The data path, one stage per subpackage: `arm` (the body as arrays) -> `sim` (Taichi physics and
-camera) -> `record` (MCAP) -> `learn` (autoencoder + LSTM) -> `imagine` (replay) -> `view` (Rerun, PNG).
+camera) -> `record` (MCAP) -> `sense` (what the sensors read) -> `learn` (autoencoder + LSTM) ->
+`imagine` (replay) -> `suite` (held-out evaluation) -> `view` (Rerun, PNG).
 
 From a notebook::
 
@@ -9,6 +10,8 @@ From a notebook::
     result = softarm.simulate(softarm.load_config(), "arm.mcap")
     trained = softarm.train(["arm.mcap"], out="arm.pt")
     replayed = softarm.replay("arm.pt", "arm.mcap", rrd="replay.rrd")
+    softarm.write_suite("suite")                      # the held-out motions
+    scores = softarm.evaluate("arm.pt", "suite")      # per family, beside the baselines
 
 Importing softarm is cheap: Taichi, torch and rerun load when a function first needs them.
 """
@@ -30,6 +33,8 @@ _API = {
     "read_recording": "softarm.record.reader",
     "train": "softarm.learn.run",
     "replay": "softarm.imagine.run",
+    "write_suite": "softarm.suite.build",
+    "evaluate": "softarm.suite.run",
 }
 __all__ = list(_API)
 

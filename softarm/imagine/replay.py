@@ -5,7 +5,6 @@ fused view of camera blackouts, metrics); `softarm.view` and `softarm.imagine.re
 it out.
 """
 
-import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Optional, Sequence, Union
@@ -50,8 +49,8 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     """
     checkpoint = Path(checkpoint)
     state = load_checkpoint(checkpoint)
-    config = checkpoint_config(state)
-    sensing = config.replace(**{f"sensing.{k}": v for k, v in (sensor_noise or {}).items()}).sensing
+    config = checkpoint_config(state).replace(**{f"sensing.{k}": v for k, v in (sensor_noise or {}).items()})
+    sensing = config.sensing
     check_recording_fits_checkpoint(state, read_model(recording), str(recording), str(checkpoint), sensing)
     rec = read_recording(recording, nodes=nodes or needs_nodes(sensing))
     stretch = sensed_stretch(rec, sensing)
@@ -71,7 +70,7 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     last = rec.times >= rec.times[-1] - 5.0 + 1e-9  # the paper's last 5 s
     metrics = {
         "recording": str(rec.path), "frames": int(len(rec.times)), "predicted_frames": int(predicted.sum()),
-        "blind_frames": int(mask.sum()), "sensing": dataclasses.asdict(sensing),
+        "blind_frames": int(mask.sum()), "sensing": config.to_dict()["sensing"],
         **{key: summarise(imagination, predicted & subset) if (predicted & subset).any() else None
            for key, subset in (("imagination", predicted), ("imagination_last_5s", last),
                                ("imagination_blind", mask), ("imagination_seeing", ~mask))},

@@ -4,7 +4,34 @@ A model is only worth its training if it beats predicting the average training f
 map from the same stretch window to the same latent code.
 """
 
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
+import torch
+
+from softarm.errors import CheckpointError
+
+
+@dataclass(frozen=True)
+class Baselines:
+    """The trivial answers fitted on a training run, kept in its checkpoint so that any later
+    evaluation (replay, the suite) scores them on the same frames as the model."""
+    mean_frame: np.ndarray                 # (H, W) mean training frame, pixel probabilities
+    ridge: tuple[np.ndarray, np.ndarray]   # (weights, bias): normalised stretch window -> normalised latent
+
+    def to_state(self) -> dict[str, torch.Tensor]:
+        weights, bias = self.ridge
+        return {"mean_frame": torch.from_numpy(self.mean_frame.copy()), "ridge_weights": torch.from_numpy(weights.copy()),
+                "ridge_bias": torch.from_numpy(bias.copy())}
+
+    @classmethod
+    def from_checkpoint(cls, state: dict[str, Any]) -> "Baselines":
+        if "baselines" not in state:
+            raise CheckpointError("the checkpoint holds no baselines (it was trained by an older softarm or did not "
+                                  "finish): train it again")
+        b = state["baselines"]
+        return cls(mean_frame=b["mean_frame"].numpy(), ridge=(b["ridge_weights"].numpy(), b["ridge_bias"].numpy()))
 
 
 def ridge_fit(inputs: np.ndarray, targets: np.ndarray, alpha: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:

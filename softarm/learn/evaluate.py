@@ -8,7 +8,7 @@ import numpy as np
 import torch
 
 from softarm.imagine.imaginer import Imaginer
-from softarm.learn.baselines import ridge_fit, ridge_predict
+from softarm.learn.baselines import Baselines, ridge_fit, ridge_predict
 from softarm.learn.metrics import image_scores
 from softarm.learn.train_state import TrainState
 
@@ -33,7 +33,15 @@ def reconstruct(state: TrainState, frames: np.ndarray) -> np.ndarray:
     return torch.cat([torch.sigmoid(state.autoencoder(torch.from_numpy(c).float())) for c in chunks]).numpy()
 
 
-def evaluate(state: TrainState) -> dict[str, Any]:
+def fit_baselines(state: TrainState) -> Baselines:
+    """The mean training frame and a ridge map from the same windows to the same latents as the LSTM's."""
+    t, data = state.config.train, state.data
+    windows, targets = data.windows("train", t.history, t.include_current)
+    ridge = ridge_fit(state.stretch_scaler.forward(windows), state.latent_scaler.forward(state.codes().of(targets)))
+    return Baselines(mean_frame=data.frames("train").mean(axis=0), ridge=ridge)
+
+
+def evaluate(state: TrainState, baselines: Baselines) -> dict[str, Any]:
     """The metrics document written beside the checkpoint (README: Results)."""
     codes = state.codes()
     t, data, scale = state.config.train, state.data, state.latent_scaler
@@ -44,9 +52,7 @@ def evaluate(state: TrainState) -> dict[str, Any]:
     truth = data.target_frames(targets)
     true_latent = scale.forward(codes.of(targets))
     predicted = imaginer.latents(windows)
-    train_windows, train_targets = data.windows("train", t.history, t.include_current)
-    ridge = ridge_fit(state.stretch_scaler.forward(train_windows), scale.forward(codes.of(train_targets)))
-    ridge_latent = ridge_predict(ridge, state.stretch_scaler.forward(windows))
+    ridge_latent = ridge_predict(baselines.ridge, state.stretch_scaler.forward(windows))
     val_windows, val_targets = data.windows("test", t.history, t.include_current)
     val_latent = scale.forward(codes.of(val_targets))
     return {
@@ -57,7 +63,7 @@ def evaluate(state: TrainState) -> dict[str, Any]:
         "imagination": {
             "lstm": image_scores(imaginer.decode(predicted), truth, ppm),
             "ridge": image_scores(imaginer.decode(ridge_latent), truth, ppm),
-            "mean_frame": image_scores(np.broadcast_to(data.frames("train").mean(axis=0), truth.shape), truth, ppm),
+            "mean_frame": image_scores(np.broadcast_to(baselines.mean_frame, truth.shape), truth, ppm),
             "ae_ceiling": image_scores(imaginer.decode(true_latent), truth, ppm)},
         "counts": {"train_frames": int(len(data.frames("train"))), "test_frames": int(len(test_frames)),
                    "imagination_predictions": int(len(targets)), "kept_latent_features": scale.kept,

@@ -62,7 +62,7 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     start = time.perf_counter()
     out = Path(out) if out is not None else default_checkpoint(recordings)
     check_train_outputs(out, rrd, resume, force)
-    from softarm.learn.evaluate import evaluate  # torch loads here, not when softarm is imported
+    from softarm.learn.evaluate import evaluate, fit_baselines  # torch loads here, not when softarm is imported
     from softarm.learn.train import fit
     from softarm.learn.train_state import start_state
 
@@ -71,8 +71,9 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
         complete = fit(state, out, observer, progress or (lambda *_: None), lambda: bool(caught) or stop())
     if not complete:
         return TrainResult(out, None, None, False, time.perf_counter() - start)
-    metrics = evaluate(state)
-    state.save(out, metrics)
+    baselines = fit_baselines(state)
+    metrics = evaluate(state, baselines)
+    state.save(out, metrics, baselines)
     metrics_file = metrics_path_for(out)
     with atomic_path(metrics_file) as part:
         part.write_text(json.dumps(finite_or_null(metrics), indent=1, allow_nan=False))

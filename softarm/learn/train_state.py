@@ -16,6 +16,7 @@ import torch
 from softarm import __version__
 from softarm.config import Config
 from softarm.errors import CheckpointError
+from softarm.learn.baselines import Baselines
 from softarm.learn.codes import LatentCodes
 from softarm.learn.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
 from softarm.learn.dataset import Dataset, load_dataset
@@ -57,7 +58,8 @@ class TrainState:
         self.lstm = StretchToLatent(self.data.sensor_count, t.lstm_hidden, latent_scaler.kept)
         self.lstm_optimizer = torch.optim.Adam(self.lstm.parameters(), lr=t.lr_lstm)
 
-    def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None) -> dict[str, Any]:
+    def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None,
+                      baselines: Optional[Baselines] = None) -> dict[str, Any]:
         """Plain tensors, numbers and strings: the file loads with torch.load(weights_only=True)."""
         state: dict[str, Any] = {
             "softarm_version": __version__, "config": self.config.to_dict(),
@@ -72,10 +74,12 @@ class TrainState:
             state["stretch_scaler"] = self.stretch_scaler.to_state()
         if metrics is not None:
             state["metrics"] = metrics
+        if baselines is not None:
+            state["baselines"] = baselines.to_state()
         return state
 
-    def save(self, path: Path, metrics: Optional[dict[str, Any]] = None) -> None:
-        save_checkpoint(path, self.to_checkpoint(metrics))
+    def save(self, path: Path, metrics: Optional[dict[str, Any]] = None, baselines: Optional[Baselines] = None) -> None:
+        save_checkpoint(path, self.to_checkpoint(metrics, baselines))
 
     def restore(self, saved: dict[str, Any], path: Path) -> None:
         """Continue from a checkpoint of the same recordings (refused otherwise)."""

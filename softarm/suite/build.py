@@ -1,0 +1,67 @@
+"""`softarm suite DIR`: simulate every level of every family from its reserved seeds and write the manifest.
+
+The recordings are regenerated, never stored: the same softarm writes byte-identical files. Each is
+checked to keep the arm inside the camera's view (no arm pixel on the left, right or bottom edge),
+so a score never mixes imagination with an arm the camera cannot see: each level simulates a few
+candidate seeds from its reserved block and keeps the first that stay in view.
+"""
+
+import json
+from pathlib import Path
+from typing import Callable, Optional, Union
+
+from softarm.config import load_config
+from softarm.errors import OutputError, SoftarmError
+from softarm.files import atomic_path, check_outputs
+from softarm.suite.families import (CANDIDATES, DURATION, FAMILIES, SEEDS_PER_LEVEL, SUITE_SEED_BASE, SUITE_VERSION,
+                                    level_seeds)
+from softarm.suite.manifest import MANIFEST
+
+def write_suite(folder: Union[str, Path], force: bool = False, arch: str = "cpu",
+                progress: Optional[Callable[[int, int], None]] = None) -> Path:
+    """Write the suite's recordings and manifest into `folder`; returns the manifest's path.
+
+    `progress(done, total)` is called after every level.
+    """
+    from softarm.sim.run import simulate
+
+    folder = Path(folder)
+    manifest = folder / MANIFEST
+    if manifest.exists() and not force:
+        raise OutputError(f"{folder} already holds a suite ({manifest}); pass --force to write it again")
+    check_outputs([manifest], force=True)
+    levels = level_seeds()
+    entries: dict[str, dict] = {f.name: {"probes": f.probes, "levels": {}} for f in FAMILIES}
+    for done, (family, level, seed) in enumerate(levels, 1):
+        index = family.levels.index(level)
+        config = load_config(overrides={**level.overrides, "run.duration": DURATION, "run.seed": seed,
+                                        "run.arms": CANDIDATES})
+        result = simulate(config, folder / f"{family.name}_level{index}.mcap", force=True, arch=arch)
+        kept = keep_in_view(result.paths, SEEDS_PER_LEVEL, f"{family.name} {level.name}")
+        entries[family.name]["levels"][level.name] = {
+            "overrides": level.overrides, "sensing": level.sensing,
+            "seeds": [seed + result.paths.index(p) for p in kept], "recordings": [p.name for p in kept]}
+        if progress:
+            progress(done, len(levels))
+    document = {"suite": SUITE_VERSION, "seed_base": SUITE_SEED_BASE, "duration": DURATION, "families": entries}
+    with atomic_path(manifest) as part:
+        part.write_text(json.dumps(document, indent=1))
+    return manifest
+
+
+def keep_in_view(paths: list[Path], count: int, what: str) -> list[Path]:
+    """The first `count` recordings whose arm never touches the left, right or bottom edge of the image;
+    the others are removed."""
+    from softarm.record.reader import read_recording
+
+    kept = []
+    for path in paths:
+        frames = read_recording(path, nodes=False).frames if len(kept) < count else None
+        if frames is not None and not (frames[:, :, 0].any() or frames[:, :, -1].any() or frames[:, -1, :].any()):
+            kept.append(path)
+        else:
+            path.unlink()
+    if len(kept) < count:
+        raise SoftarmError(f"suite level {what}: only {len(kept)} of {len(paths)} seeds keep the arm in the camera's "
+                           f"view; the level's motion is too large")
+    return kept

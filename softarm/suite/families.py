@@ -1,0 +1,78 @@
+"""The suite's families: what motion each probes, at which levels, from which reserved seeds.
+
+A family is one question about the body image (does it hold beyond the paper's amplitude, its
+frequencies, band-limited noise, a pure sine below or at the arm's resonance, noisy sensors?); a level
+is one setting of it. Everything here is part of the suite's version: change a family, bump it.
+Seeds from SUITE_SEED_BASE on belong to the suite; a training corpus must stay below it.
+"""
+
+from dataclasses import dataclass, field
+from typing import Any
+
+SUITE_VERSION = "softarm-suite/1"
+SUITE_SEED_BASE = 1_000_000   # seeds >= this are the suite's: corpora are refused them
+DURATION = 20.0               # s per recording
+SEEDS_PER_LEVEL = 2
+CANDIDATES = 4                # seeds simulated per level, of which the first SEEDS_PER_LEVEL in view are kept
+SEED_BLOCK = 10               # reserved seeds per level
+SUM = "excitation.sum_of_sines."
+
+
+@dataclass(frozen=True)
+class Level:
+    name: str
+    overrides: dict[str, Any]                                 # config keys of the motion
+    sensing: dict[str, float] = field(default_factory=dict)   # imperfections read at evaluation
+
+
+@dataclass(frozen=True)
+class Family:
+    name: str
+    probes: str
+    levels: tuple[Level, ...]
+
+
+def multisine(band: list[float], rms: float, components: int = 8) -> dict[str, Any]:
+    return {"excitation.kind": "sum_of_sines", SUM + "band": band, SUM + "rms": rms, SUM + "components": components}
+
+
+def sine(frequency: float, amplitude: float) -> dict[str, Any]:
+    return {"excitation.kind": "sum_of_sines", SUM + "amplitudes": [amplitude], SUM + "frequencies": [frequency],
+            SUM + "phases": [0.0]}
+
+
+FAMILIES = (
+    Family("paper_amplitude", "the paper's drive at its default amplitude and a smaller one: memorised shapes or the body?",
+           (Level("A=4mm (default)", {}), Level("A=2.5mm", {"excitation.amplitude": 0.0025}))),
+    Family("paper_frequency", "the paper's three-sine product with every frequency scaled: other rhythms, same kind",
+           (Level("f x0.8", {"excitation.frequencies": [1.688, 2.984, 3.464]}),
+            Level("f x1.25", {"excitation.frequencies": [2.6375, 4.6625, 5.4125]}))),
+    Family("multisine_low", "band-limited noise below the first mode (0.2-1 Hz): slow, quasi-static bending",
+           (Level("rms 1.5mm", multisine([0.2, 1.0], 0.0015)), Level("rms 3mm", multisine([0.2, 1.0], 0.003)))),
+    Family("multisine_mid", "band-limited noise around the first mode (1-3 Hz, resonance 1.48 Hz): large dynamic swings",
+           (Level("rms 1mm", multisine([1.0, 3.0], 0.001)), Level("rms 2mm", multisine([1.0, 3.0], 0.002)))),
+    Family("multisine_broad", "broad-band noise over both first modes (0.2-6 Hz): the richest motion",
+           (Level("rms 1mm", multisine([0.2, 6.0], 0.001, 16)), Level("rms 2mm", multisine([0.2, 6.0], 0.002, 16)))),
+    Family("sine_slow", "one slow sine far below resonance: the arm follows its top almost rigidly",
+           (Level("0.3Hz 20mm", sine(0.3, 0.02)), Level("0.6Hz 10mm", sine(0.6, 0.01)))),
+    Family("sine_fast", "one sine at the first (1.5 Hz) and the second (4 Hz) mode: resonant shapes",
+           (Level("1.5Hz 0.5mm", sine(1.5, 0.0005)), Level("4Hz 4mm", sine(4.0, 0.004)))),
+    Family("sensor_noise", "the paper's motion read through imperfect sensors: noise, drift and quantisation",
+           (Level("noise 20um", {}, {"noise": 2e-5}), Level("noise 100um", {}, {"noise": 1e-4}),
+            Level("noise 20um + drift 20um/sqrt(s) + 10um steps", {},
+                  {"noise": 2e-5, "drift": 2e-5, "quantisation": 1e-5}))),
+)
+
+
+def level_seeds() -> list[tuple[Family, Level, int]]:
+    """Every (family, level, first seed of its block) of the suite, in this order.
+
+    Each level owns a block of SEED_BLOCK seeds from SUITE_SEED_BASE on; its recordings are the first
+    SEEDS_PER_LEVEL seeds of the block whose arm stays in the camera's view.
+    """
+    out, seed = [], SUITE_SEED_BASE
+    for family in FAMILIES:
+        for level in family.levels:
+            out.append((family, level, seed))
+            seed += SEED_BLOCK
+    return out

@@ -1,0 +1,105 @@
+"""The held-out suite: its families and reserved seeds, the recordings `softarm suite` writes (every arm in
+the camera's view), and `softarm evaluate` on it beside the baselines."""
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+
+from cli_helpers import assert_one_line_error, softarm
+from softarm.record.reader import read_recording
+from softarm.suite.families import FAMILIES, SEED_BLOCK, SUITE_SEED_BASE, SUITE_VERSION, level_seeds
+from softarm.suite.manifest import read_suite
+
+
+@pytest.fixture(scope="session")
+def suite_folder(tmp_path_factory):
+    """The whole suite, written by the real command (about 25 s here)."""
+    folder = tmp_path_factory.mktemp("suite")
+    result = softarm("suite", str(folder), "-q", cwd=folder, timeout=300)
+    assert result.returncode == 0, result.stderr
+    return folder
+
+
+def test_at_least_six_families_each_at_two_levels_from_reserved_seeds():
+    assert len(FAMILIES) >= 6 and all(len(f.levels) >= 2 for f in FAMILIES)
+    blocks = [seed for _, _, seed in level_seeds()]
+    assert blocks[0] == SUITE_SEED_BASE and np.all(np.diff(blocks) == SEED_BLOCK)
+    assert any(level.sensing for f in FAMILIES for level in f.levels)  # a case with sensor noise
+
+
+def test_the_suite_keeps_every_arm_in_view_and_uses_only_its_seeds(suite_folder):
+    suite = read_suite(suite_folder)
+    assert suite.version == SUITE_VERSION and suite.families == [f.name for f in FAMILIES]
+    manifest = json.loads((suite_folder / "suite.json").read_text())
+    for family in FAMILIES:
+        for level in family.levels:
+            entry = manifest["families"][family.name]["levels"][level.name]
+            assert len(entry["recordings"]) == 2 and all(s >= SUITE_SEED_BASE for s in entry["seeds"])
+    for case in suite.cases:
+        rec = read_recording(case.path, nodes=False)
+        assert rec.complete and rec.model["seed"] >= SUITE_SEED_BASE
+        frames = rec.frames
+        assert not (frames[:, :, 0].any() or frames[:, :, -1].any() or frames[:, -1, :].any()), case.path.name
+        assert frames.any(axis=(1, 2)).all()  # the arm is in every frame
+    assert sorted(p.name for p in suite_folder.glob("*.mcap")) == sorted(c.path.name for c in suite.cases)
+
+
+def test_writing_the_suite_again_gives_the_same_files(suite_folder, tmp_path):
+    first = next(c for c in read_suite(suite_folder).cases if c.family == "multisine_broad")
+    result = softarm("suite", str(tmp_path), "-q", cwd=tmp_path, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / first.path.name).read_bytes() == first.path.read_bytes()
+    assert (tmp_path / "suite.json").read_text() == (suite_folder / "suite.json").read_text()
+    again = softarm("suite", str(tmp_path), cwd=tmp_path)
+    assert_one_line_error(again, "already holds a suite", "--force")
+
+
+@pytest.fixture(scope="module")
+def small_suite(suite_folder, tmp_path_factory):
+    """Two families, one recording per level, as a suite folder of its own (evaluation in seconds)."""
+    folder = tmp_path_factory.mktemp("small")
+    manifest = json.loads((suite_folder / "suite.json").read_text())
+    manifest["families"] = {name: manifest["families"][name] for name in ("paper_amplitude", "sensor_noise")}
+    for family in manifest["families"].values():
+        for level in family["levels"].values():
+            level["recordings"] = level["recordings"][:1]
+            shutil.copy(suite_folder / level["recordings"][0], folder)
+    (folder / "suite.json").write_text(json.dumps(manifest))
+    return folder
+
+
+def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, tiny_checkpoint, tmp_path):
+    result = softarm("evaluate", str(tiny_checkpoint.checkpoint), str(small_suite), "--json", "e.json", "--png", "e.png",
+                     cwd=tmp_path, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert "paper_amplitude" in result.stdout and "sensor_noise" in result.stdout
+    document = json.loads((tmp_path / "e.json").read_text())
+    assert document["suite"] == SUITE_VERSION and set(document["families"]) == {"paper_amplitude", "sensor_noise"}
+    for row in document["families"].values():
+        assert row["frames"] in (2 * 1994, 3 * 1994)  # per level, every frame after the first 6-sample window
+        assert set(row["baselines"]) == {"mean_frame", "ridge", "ae_ceiling"}
+        floor, ceiling = row["baselines"]["mean_frame"]["iou"], row["baselines"]["ae_ceiling"]["iou"]
+        assert row["skill"] == pytest.approx((row["iou"] - floor) / (ceiling - floor))
+        for scores in (row, *row["baselines"].values()):
+            assert 0 <= scores["iou"] <= 1 and scores["bce"] > 0 and scores["tip_error_mm"] >= 0
+    assert (tmp_path / "e.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_sensor_noise_reaches_the_stretch_answers_and_nothing_else(small_suite, tiny_checkpoint):
+    from softarm.suite.evaluate import evaluate_suite
+
+    clean = evaluate_suite(tiny_checkpoint.checkpoint, small_suite)["families"]["paper_amplitude"]
+    noisy = evaluate_suite(tiny_checkpoint.checkpoint, small_suite,
+                           sensor_noise={"noise": 1e-2})["families"]["paper_amplitude"]
+    assert noisy["baselines"]["ridge"]["iou"] < clean["baselines"]["ridge"]["iou"] - 0.05  # 10 mm of noise hurts
+    assert noisy["iou"] != clean["iou"]
+    for camera_side in ("mean_frame", "ae_ceiling"):
+        assert noisy["baselines"][camera_side] == clean["baselines"][camera_side]
+
+
+def test_evaluate_refuses_a_folder_without_a_suite(tiny_checkpoint, tmp_path):
+    result = softarm("evaluate", str(tiny_checkpoint.checkpoint), str(tmp_path), "--json", "e.json", cwd=tmp_path)
+    assert_one_line_error(result, "holds no suite", "softarm suite")
+    assert not (tmp_path / "e.json").exists()
