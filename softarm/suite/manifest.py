@@ -4,7 +4,7 @@ sensor imperfections each level is read with."""
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Union
+from typing import NamedTuple, Union
 
 from softarm.errors import RecordingError
 from softarm.suite.families import SUITE_VERSION
@@ -12,12 +12,11 @@ from softarm.suite.families import SUITE_VERSION
 MANIFEST = "suite.json"
 
 
-@dataclass(frozen=True)
-class SuiteCase:
+class SuiteCase(NamedTuple):
     family: str
     level: str
     path: Path
-    sensing: dict[str, float]
+    sensing: dict[str, float]   # imperfections this level is read with
 
 
 @dataclass(frozen=True)

@@ -31,9 +31,10 @@ def save_suite_png(evaluation: dict[str, Any], path: Union[str, Path], title: st
     ax.scatter(x, ceiling, marker="_", s=900, color="black", linewidths=2, label="AE ceiling", zorder=3)
     ax.set_xticks(x, [f.replace("_", "\n") for f in families], fontsize=8)
     ax.set_ylabel("IoU of imagined frames")
-    ax.set_ylim(0, 1.05)
+    ax.set_ylim(0, 1.2)
     ax.set_title(title or f"{evaluation['suite']}: {Path(evaluation['checkpoint']).name}", fontsize=10)
-    ax.legend(fontsize=8, loc="lower left", ncol=4)
+    ax.legend(fontsize=8, loc="upper center", ncol=4, frameon=False)
+    ax.set_yticks(np.linspace(0, 1, 6))
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     with atomic_path(path) as part:
