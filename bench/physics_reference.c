@@ -20,7 +20,7 @@
 
 static const double TWO_PI = 6.283185307179586;
 
-/* (f(t), f'(t)) of the product of sines, by the product rule (softarm.sim.physics.drive_at). */
+/* (f(t), f'(t)) of the product of sines, by the product rule (softarm.sim.physics.product_of_sines). */
 static inline void drive_at(double t, double amplitude, int n_freqs, const double *restrict freqs,
                             double *restrict value, double *restrict rate)
 {

@@ -213,6 +213,10 @@ def suite(
     with LazyProgress(err, "suite", len(level_seeds()), "levels", quiet=quiet) as bar:
         manifest = run_or_exit(lambda: write_suite(folder, force=force, arch=arch,
                                                    progress=lambda done, _: bar.update(done)))
+    if manifest is None:
+        err.print(f"interrupted: {folder} holds part of the suite and no suite.json; run the command again",
+                  markup=False)
+        raise typer.Exit(130)
     if not quiet:
         out.print(f"wrote {SUITE_VERSION} to {folder} ({manifest.name} and its recordings)", markup=False)
 

@@ -5,16 +5,22 @@ Every writer in softarm (recordings, checkpoints, metrics, .rrd timelines, PNGs)
 """
 
 import hashlib
+import json
+import math
 import os
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator, Union
+from typing import Any, Iterator, Union
 
 from softarm.errors import OutputError
 
 
 def check_outputs(paths: list[Path], force: bool) -> None:
-    """Refuse before any work: an existing file (unless force), a parent that is a file or is read-only."""
+    """Refuse before any work: two outputs on one path, an existing file (unless force), a parent that is a
+    file or is read-only."""
+    paths = [Path(p) for p in paths]
+    if len(set(paths)) != len(paths):
+        raise OutputError(f"the outputs {', '.join(map(str, paths))} must name different files")
     for path in paths:
         if path.is_dir():
             raise OutputError(f"output {path} is a folder; give a file name")
@@ -57,6 +63,21 @@ def atomic_path(path: Union[str, Path]) -> Iterator[Path]:
         part.unlink(missing_ok=True)
         raise
     publish(path)
+
+
+def write_json(path: Union[str, Path], document: Any) -> Path:
+    """Indented JSON written whole; NaN becomes null, since strict JSON readers reject NaN."""
+    with atomic_path(path) as part:
+        part.write_text(json.dumps(_finite_or_null(document), indent=1, allow_nan=False))
+    return Path(path)
+
+
+def _finite_or_null(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {k: _finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_null(v) for v in value]
+    return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
 def fingerprint(path: Union[str, Path]) -> str:

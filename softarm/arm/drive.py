@@ -16,6 +16,7 @@ import numpy as np
 from softarm.config import ExcitationConfig
 
 PRODUCT, SUM = "product_of_sines", "sum_of_sines"
+HELD_OUT_SEED_BASE = 1_000_000  # seeds from here on belong to the held-out suite: training refuses their recordings
 KIND_CODES = {PRODUCT: 0, SUM: 1}  # how the Taichi kernel tells the kinds apart
 
 

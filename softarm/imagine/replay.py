@@ -13,7 +13,7 @@ import numpy as np
 
 from softarm.learn.checkpoint import checkpoint_config, load_checkpoint
 from softarm.imagine.blind import blind_mask, fused_scores
-from softarm.imagine.imaginer import Imaginer
+from softarm.learn.imaginer import Imaginer
 from softarm.learn.fits import check_recording_fits_checkpoint
 from softarm.learn.metrics import frame_scores, summarise
 from softarm.record.reader import Recording, read_model, read_recording
@@ -38,6 +38,20 @@ class Replay:
         return self.recording.times
 
 
+def read_as_trained(state: dict[str, Any], checkpoint: Path, recording: Path,
+                    sensor_noise: Optional[dict[str, Any]], nodes: bool = False) -> tuple[Recording, np.ndarray, dict]:
+    """A recording and the signals the checkpoint reads from it: its sensors as it was trained to read them,
+    with `sensor_noise` replacing the imperfections; (recording, stretch (T, P), the [sensing] used).
+
+    A recording whose camera or sensors do not fit the checkpoint is refused before its frames are read.
+    """
+    config = checkpoint_config(state).replace(**{f"sensing.{k}": v for k, v in (sensor_noise or {}).items()})
+    sensing = config.sensing
+    check_recording_fits_checkpoint(state, read_model(recording), str(recording), str(checkpoint), sensing)
+    rec = read_recording(recording, nodes=nodes or needs_nodes(sensing))
+    return rec, sensed_stretch(rec, sensing), config.to_dict()["sensing"]
+
+
 def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
            blind: Sequence[tuple[float, float]] = (), nodes: bool = True,
                    sensor_noise: Optional[dict[str, Any]] = None) -> Replay:
@@ -49,11 +63,7 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     """
     checkpoint = Path(checkpoint)
     state = load_checkpoint(checkpoint)
-    config = checkpoint_config(state).replace(**{f"sensing.{k}": v for k, v in (sensor_noise or {}).items()})
-    sensing = config.sensing
-    check_recording_fits_checkpoint(state, read_model(recording), str(recording), str(checkpoint), sensing)
-    rec = read_recording(recording, nodes=nodes or needs_nodes(sensing))
-    stretch = sensed_stretch(rec, sensing)
+    rec, stretch, sensing = read_as_trained(state, checkpoint, Path(recording), sensor_noise, nodes)
     mask = blind_mask(rec.times, blind)
     imaginer = Imaginer.from_checkpoint(state)
     targets, probs = imaginer.imagine(stretch)
@@ -63,14 +73,13 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     predicted[targets] = True
     fused = rec.frames.astype(np.float32)
     fused[mask] = imagined[mask]
-    M = np.array(rec.model["camera"]["world_to_pixel"])
-    ppm = float(np.hypot(*M[:, 0]))
-    imagination = frame_scores(imagined, rec.frames, ppm)
+    M = rec.world_to_pixel
+    imagination = frame_scores(imagined, rec.frames, rec.pixels_per_metre)
     iou = np.where(predicted, imagination["iou"], np.nan)
     last = rec.times >= rec.times[-1] - 5.0 + 1e-9  # the paper's last 5 s
     metrics = {
         "recording": str(rec.path), "frames": int(len(rec.times)), "predicted_frames": int(predicted.sum()),
-        "blind_frames": int(mask.sum()), "sensing": config.to_dict()["sensing"],
+        "blind_frames": int(mask.sum()), "sensing": sensing,
         **{key: summarise(imagination, predicted & subset) if (predicted & subset).any() else None
            for key, subset in (("imagination", predicted), ("imagination_last_5s", last),
                                ("imagination_blind", mask), ("imagination_seeing", ~mask))},

@@ -9,7 +9,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional, Sequence, Union
 
-from softarm.errors import OutputError
 from softarm.files import check_outputs
 from softarm.imagine.blind import parse_blind
 from softarm.imagine.recording import write_imagination
@@ -46,12 +45,10 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
     from softarm.imagine.replay import compute_replay  # torch loads here, not when softarm is imported
 
     start = time.perf_counter()
-    outputs = [Path(p) for p in (rrd, mcap, png) if p is not None]
-    if len(set(outputs)) != len(outputs):
-        raise OutputError("--rrd, --mcap and --png must name different files")
-    check_outputs(outputs, force)
+    ranges = parse_blind(blind)  # bad input first: a refused run creates no folder
+    check_outputs([Path(p) for p in (rrd, mcap, png) if p is not None], force)
     timeline = rrd is not None or spawn
-    result = compute_replay(checkpoint, recording, parse_blind(blind), nodes=timeline, sensor_noise=sensor_noise)
+    result = compute_replay(checkpoint, recording, ranges, nodes=timeline, sensor_noise=sensor_noise)
     if timeline or mcap is not None:
         from softarm.view.images import probability_bytes
 

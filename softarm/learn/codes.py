@@ -7,7 +7,7 @@ training pairs, the scalers, the ridge baseline and the metrics.
 import numpy as np
 import torch
 
-from softarm.imagine.imaginer import BATCH
+from softarm.learn.imaginer import BATCH
 from softarm.learn.dataset import Dataset
 from softarm.learn.models import Autoencoder
 

@@ -11,6 +11,7 @@ from typing import Optional, Sequence, Union
 
 import numpy as np
 
+from softarm.arm.drive import HELD_OUT_SEED_BASE
 from softarm.config import SensingConfig, TrainConfig
 from softarm.errors import RecordingError
 from softarm.files import fingerprint
@@ -63,6 +64,11 @@ class Dataset:
             raise RecordingError(f"the {segment} segment is shorter than a history of {history} samples")
         return np.concatenate(inputs), np.concatenate(targets)
 
+    def count(self, segment: str, history: int = 0, include_current: bool = False) -> int:
+        """Frames of a segment, all recordings; with a history, the stretch windows `windows` would give."""
+        lost = history - 1 + (0 if include_current else 1) if history else 0
+        return sum(max(0, end - start - lost) for start, end in (s.segment(segment) for s in self.sequences))
+
     def target_frames(self, targets: np.ndarray) -> np.ndarray:
         return np.stack([self.sequences[n].frames[k] for n, k in targets])
 
@@ -99,6 +105,9 @@ def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing:
     sequences = []
     for path in map(Path, paths):
         rec = read_recording(path, nodes=needs_nodes(sensing))
+        if int(rec.model.get("seed", 0)) >= HELD_OUT_SEED_BASE:
+            raise RecordingError(f"{path.name} was made from seed {rec.model['seed']}, one of the held-out suite's "
+                                 f"(>= {HELD_OUT_SEED_BASE}): train on seeds below it")
         seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=rec.frames,
                       stretch=sensed_stretch(rec, sensing).astype(np.float32), times=rec.times,
                       bounds=split_bounds(len(rec.times), train))

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from softarm.imagine.imaginer import Imaginer
+from softarm.learn.imaginer import Imaginer
 from softarm.learn.baselines import Baselines, ridge_fit, ridge_predict
 from softarm.learn.metrics import image_scores
 from softarm.learn.train_state import TrainState

@@ -3,8 +3,6 @@
 Light to import: torch loads when `train()` first runs.
 """
 
-import json
-import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -12,7 +10,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 from softarm.config import Config, load_config
 from softarm.errors import CheckpointError, OutputError
-from softarm.files import atomic_path, check_outputs
+from softarm.files import check_outputs, write_json
 from softarm.interrupt import stop_on_signal
 from softarm.learn.observer import Progress, open_observer
 
@@ -46,7 +44,7 @@ def check_train_outputs(checkpoint: Path, rrd: Optional[PathLike], resume: bool,
         raise CheckpointError(f"--resume: there is no checkpoint {checkpoint} to continue")
     if checkpoint.exists() and not (resume or force):
         raise OutputError(f"checkpoint {checkpoint} already exists; pass --resume to continue it or --force to replace it")
-    check_outputs([checkpoint], force=True)  # folders and permissions; an existing checkpoint is handled above
+    check_outputs([checkpoint, metrics_path_for(checkpoint)], force=True)  # folders and permissions
     if rrd is not None:
         check_outputs([Path(rrd)], force)
 
@@ -74,16 +72,5 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     baselines = fit_baselines(state)
     metrics = evaluate(state, baselines)
     state.save(out, metrics, baselines)
-    metrics_file = metrics_path_for(out)
-    with atomic_path(metrics_file) as part:
-        part.write_text(json.dumps(finite_or_null(metrics), indent=1, allow_nan=False))
+    metrics_file = write_json(metrics_path_for(out), metrics)
     return TrainResult(out, metrics_file, metrics, True, time.perf_counter() - start)
-
-
-def finite_or_null(value: Any) -> Any:
-    """NaN (e.g. a tip error where every frame is empty) as null: strict JSON readers reject NaN."""
-    if isinstance(value, dict):
-        return {k: finite_or_null(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [finite_or_null(v) for v in value]
-    return None if isinstance(value, float) and not math.isfinite(value) else value

@@ -103,10 +103,9 @@ def end_epoch(state: TrainState, out: Path, observer: TrainingObserver, progress
 def training_step(state: TrainState) -> int:
     """Optimisation steps taken so far over both networks: one axis for every loss curve of the live view."""
     t, data = state.config.train, state.data
-    ae_steps = len(state.losses["ae_train"]) * math.ceil(len(data.frames("train")) / t.batch_ae)
-    lstm_items = sum(max(0, b - a - t.history + (1 if t.include_current else 0))
-                     for a, b in (s.segment("train") for s in data.sequences))
-    return ae_steps + len(state.losses["lstm_train"]) * math.ceil(lstm_items / t.batch_lstm)
+    ae_steps = math.ceil(data.count("train") / t.batch_ae)
+    lstm_steps = math.ceil(data.count("train", t.history, t.include_current) / t.batch_lstm)
+    return len(state.losses["ae_train"]) * ae_steps + len(state.losses["lstm_train"]) * lstm_steps
 
 
 @torch.no_grad()

@@ -5,7 +5,6 @@ history: everything `--resume` needs to continue exactly where a run stopped, an
 needs to imagine (docs/model.md says what the networks see; `checkpoint` says how the file is kept).
 """
 
-import dataclasses
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,9 +22,6 @@ from softarm.learn.dataset import Dataset, load_dataset
 from softarm.learn.models import Autoencoder, StretchToLatent
 from softarm.learn.scaler import Scaler
 
-PHASES = ("ae", "lstm", "done")
-
-
 @dataclass
 class TrainState:
     config: Config
@@ -36,7 +32,7 @@ class TrainState:
     lstm_optimizer: Optional[torch.optim.Optimizer] = None
     latent_scaler: Optional[Scaler] = None
     stretch_scaler: Optional[Scaler] = None
-    phase: str = "ae"   # one of PHASES
+    phase: str = "ae"   # "ae", then "lstm", then "done"
     epoch: int = 0      # epochs finished in this phase
     losses: dict[str, list[float]] = field(
         default_factory=lambda: {"ae_train": [], "ae_test": [], "lstm_train": [], "lstm_val": []})
@@ -114,10 +110,12 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
 
 
 def _saved_config(saved: dict[str, Any], asked: Config) -> Config:
-    """The saved run's config; training settings asked for now that differ from it are named and ignored."""
+    """The saved run's config; training and sensing settings asked for now that differ from it are named
+    and ignored."""
     config = checkpoint_config(saved)
-    ignored = {k: v for k, v in dataclasses.asdict(asked.train).items() if getattr(config.train, k) != v}
+    now, then = asked.to_dict(), config.to_dict()
+    ignored = [f"{section}.{k} = {v}" for section in ("train", "sensing") for k, v in now[section].items()
+               if then[section].get(k) != v]
     if ignored:
-        warnings.warn("--resume continues with the saved run's settings; ignored: "
-                      + ", ".join(f"train.{k} = {v}" for k, v in ignored.items()), stacklevel=3)
+        warnings.warn("--resume continues with the saved run's settings; ignored: " + ", ".join(ignored), stacklevel=3)
     return config

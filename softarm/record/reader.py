@@ -44,6 +44,15 @@ class Recording:
     def frame_dt(self) -> float:
         return float(self.model["frame_dt"])
 
+    @property
+    def world_to_pixel(self) -> np.ndarray:
+        """The camera's 2x3 map M: [u, v] = M [x, y, 1]."""
+        return np.array(self.model["camera"]["world_to_pixel"], np.float64)
+
+    @property
+    def pixels_per_metre(self) -> float:
+        return float(np.hypot(*self.world_to_pixel[:, 0]))
+
 
 def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
     """Load every complete frame of a recording. nodes=False skips the node positions (the largest part)."""
@@ -69,9 +78,12 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
 def read_model(path: Union[str, Path]) -> dict[str, Any]:
     """Only the model document: cheap, for checking that a recording fits a checkpoint before loading it."""
     path = Path(path)
-    for record in _records(path, stop_after_model=True):
-        if isinstance(record, Metadata) and record.name == META_MODEL:
-            return _model(record, path)
+    try:
+        for record in _records(path, stop_after_model=True):
+            if isinstance(record, Metadata) and record.name == META_MODEL:
+                return _model(record, path)
+    except _Truncated:
+        raise RecordingError(f"{path} is cut short before its metadata: no frame can be recovered") from None
     raise RecordingError(f"{path} is an MCAP file but not a softarm recording (no '{META_MODEL}' metadata)")
 
 

@@ -4,8 +4,7 @@ Each imperfection draws from its own child of one generator seeded by (seed, str
 on or off leaves the realisation of the others unchanged, and a study can vary one at a time.
 """
 
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -25,18 +24,14 @@ class SensorModel:
 
     @classmethod
     def from_config(cls, sensing: SensingConfig) -> "SensorModel":
-        return cls(noise=sensing.noise, bias=sensing.bias, drift=sensing.drift, quantisation=sensing.quantisation,
-                   dropout_sensor=sensing.dropout_sensor, dropout_time=sensing.dropout_time, seed=sensing.seed)
+        """The imperfections of a [sensing] section: every key but pairs."""
+        return cls(**{f.name: getattr(sensing, f.name) for f in fields(cls)})
 
     @property
     def ideal(self) -> bool:
         """Nothing is applied: the readings are the recorded ones."""
         return (self.noise == 0 and self.bias == 0 and self.drift == 0 and self.quantisation == 0
                 and self.dropout_sensor < 0)
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain values, for metadata and JSON."""
-        return asdict(self)
 
     def apply(self, stretch: np.ndarray, times: np.ndarray, stream: int = 0) -> np.ndarray:
         """Imperfect (T, P) float64 readings from ideal ones (T, P) m sampled at times (T,) s.

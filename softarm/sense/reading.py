@@ -5,6 +5,7 @@ Training, replay and evaluation all read through `sensed_stretch`, so a checkpoi
 exactly the kind of signal it was trained on, unless a caller asks for another sensor model.
 """
 
+from dataclasses import fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -17,7 +18,7 @@ from softarm.sense.pairs import recording_stretch
 if TYPE_CHECKING:
     from softarm.record.reader import Recording
 
-IMPERFECTIONS = ("noise", "bias", "drift", "quantisation", "dropout_sensor", "dropout_time", "seed")
+IMPERFECTIONS = tuple(f.name for f in fields(SensorModel))  # the [sensing] keys but pairs
 
 
 def sensed_stretch(recording: "Recording", sensing: SensingConfig) -> np.ndarray:

@@ -3,17 +3,22 @@
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Optional, Union
+from typing import TYPE_CHECKING, Callable, Optional, Union
 
 import numpy as np
 
-from softarm.arm.batch import arm_batch
+from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.sensors import stretch
 from softarm.config import Config
 from softarm.files import check_outputs
 from softarm.interrupt import stop_on_signal
 from softarm.record.process import RecorderProcess
 from softarm.record.writer import model_metadata
+from softarm.sim import check_arch
+
+if TYPE_CHECKING:
+    from softarm.sim.physics import Simulator
+    from softarm.sim.raster import Rasteriser
 
 DEFAULT_FOLDER = Path("recordings")
 
@@ -85,45 +90,59 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
 
     start = time.perf_counter()
     laps = Laps()
+    check_arch(arch)
     batch = arm_batch(config)  # config errors first: a refused run creates no folder
     paths = output_paths(config, out)
     check_outputs(paths, force)
     init_taichi(arch)
 
-    body, drives, integ = batch.body, batch.drives, config.integration
+    body, integ = batch.body, config.integration
     block_frames = block_frames_for(config, body.n_nodes)
     sim = Simulator.from_config(config, batch, block_frames)
-    camera = Rasteriser(config.camera, body.outline, batch.arms, block_frames)
-    specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
-             for path, drive, seed, p0, v0 in zip(paths, drives, batch.seeds, batch.positions, batch.velocities)]
-    recorder = RecorderProcess(specs)
-    laps.lap("setup")
-    done = 0
     try:
-        with stop_on_signal() as caught:
-            while done < config.n_frames and not caught:
-                n = min(block_frames, config.n_frames - done)
-                sim.step_block(n)
-                positions = sim.history[:, :n]
-                laps.lap("physics")
-                images = camera.render(sim.history, n)
-                laps.lap("camera")
-                readings = stretch(positions, body.rest, body.sensors)
-                times = np.arange(done, done + n) * integ.frame_dt
-                displacements = np.stack([d.displacement(times) for d in drives])
-                laps.lap("sensors")
-                recorder.write(images, readings, positions, displacements)
-                laps.lap("recording (queue)")
-                done += n
-                if progress:
-                    progress(done)
-            complete = not caught
-            recorder.close(complete)  # inside: a Ctrl-C during the final flush must not discard the files
-        laps.lap("recording (rest, after the physics)")
-    except BaseException:
-        recorder.discard()
-        raise
+        camera = Rasteriser(config.camera, body.outline, batch.arms, block_frames)
+        specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
+                 for path, drive, seed, p0, v0 in zip(paths, batch.drives, batch.seeds, batch.positions,
+                                                       batch.velocities)]
+        recorder = RecorderProcess(specs)
+        laps.lap("setup")
+        try:
+            done, complete = record_blocks(config, batch, sim, camera, recorder, laps, progress)
+        except BaseException:
+            recorder.discard()
+            raise
     finally:
         sim.close()
     return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,
                      simulated_seconds=done * integ.frame_dt, stage_seconds=laps.seconds)
+
+
+def record_blocks(config: Config, batch: ArmBatch, sim: "Simulator", camera: "Rasteriser", recorder: RecorderProcess,
+                  laps: Laps, progress: Optional[Callable[[int], None]]) -> tuple[int, bool]:
+    """Step, photograph, sense and record block after block; (frames done, whether the run completed).
+
+    Ctrl-C (or SIGTERM) stops at the next block boundary and closes the files with what they hold.
+    """
+    body, frame_dt, block_frames = batch.body, config.integration.frame_dt, sim.block_frames
+    done = 0
+    with stop_on_signal() as caught:
+        while done < config.n_frames and not caught:
+            n = min(block_frames, config.n_frames - done)
+            sim.step_block(n)
+            positions = sim.history[:, :n]
+            laps.lap("physics")
+            images = camera.render(sim.history, n)
+            laps.lap("camera")
+            readings = stretch(positions, body.rest, body.sensors)
+            times = np.arange(done, done + n) * frame_dt
+            displacements = np.stack([d.displacement(times) for d in batch.drives])
+            laps.lap("sensors")
+            recorder.write(images, readings, positions, displacements)
+            laps.lap("recording (queue)")
+            done += n
+            if progress:
+                progress(done)
+        complete = not caught
+        recorder.close(complete)  # inside: a Ctrl-C during the final flush must not discard the files
+    laps.lap("recording (rest, after the physics)")
+    return done, complete

@@ -7,7 +7,7 @@ from typing import Union
 import numpy as np
 import taichi as ti
 
-from softarm.sim import ARCHS
+from softarm.sim import check_arch
 from softarm.errors import SoftarmError
 _started: list[str] = []
 
@@ -18,8 +18,7 @@ def init_taichi(arch: str = "cpu", debug: bool = False) -> str:
     Returns the backend in use ("x64", "cuda", ...). `auto` takes a GPU when there is one; `gpu`
     refuses to fall back to the CPU silently. A second call with the same arch does nothing.
     """
-    if arch not in ARCHS:
-        raise SoftarmError(f"--arch {arch!r} is not known: use one of {', '.join(ARCHS)}")
+    check_arch(arch)
     if _started:
         if _started[0] != arch:
             raise SoftarmError(f"Taichi is already running with arch {_started[0]!r}; restart to use {arch!r}")

@@ -6,20 +6,21 @@ so a score never mixes imagination with an arm the camera cannot see: each level
 candidate seeds from its reserved block and keeps the first that stay in view.
 """
 
-import json
 from pathlib import Path
 from typing import Callable, Optional, Union
 
 from softarm.config import load_config
 from softarm.errors import OutputError, SoftarmError
-from softarm.files import atomic_path, check_outputs
+from softarm.files import check_outputs, write_json
+from softarm.interrupt import stop_on_signal
 from softarm.suite.families import (CANDIDATES, DURATION, FAMILIES, SEEDS_PER_LEVEL, SUITE_SEED_BASE, SUITE_VERSION,
                                     level_seeds)
 from softarm.suite.manifest import MANIFEST
 
 def write_suite(folder: Union[str, Path], force: bool = False, arch: str = "cpu",
-                progress: Optional[Callable[[int, int], None]] = None) -> Path:
-    """Write the suite's recordings and manifest into `folder`; returns the manifest's path.
+                progress: Optional[Callable[[int, int], None]] = None) -> Optional[Path]:
+    """Write the suite's recordings and manifest into `folder`; the manifest's path, or None when Ctrl-C
+    (or SIGTERM) stopped it: then the folder holds no manifest, so nothing takes it for a whole suite.
 
     `progress(done, total)` is called after every level.
     """
@@ -30,23 +31,25 @@ def write_suite(folder: Union[str, Path], force: bool = False, arch: str = "cpu"
     if manifest.exists() and not force:
         raise OutputError(f"{folder} already holds a suite ({manifest}); pass --force to write it again")
     check_outputs([manifest], force=True)
+    manifest.unlink(missing_ok=True)  # a suite is whole or has no manifest
     levels = level_seeds()
     entries: dict[str, dict] = {f.name: {"probes": f.probes, "levels": {}} for f in FAMILIES}
-    for done, (family, level, seed) in enumerate(levels, 1):
-        index = family.levels.index(level)
-        config = load_config(overrides={**level.overrides, "run.duration": DURATION, "run.seed": seed,
-                                        "run.arms": CANDIDATES})
-        result = simulate(config, folder / f"{family.name}_level{index}.mcap", force=True, arch=arch)
-        kept = keep_in_view(result.paths, SEEDS_PER_LEVEL, f"{family.name} {level.name}")
-        entries[family.name]["levels"][level.name] = {
-            "overrides": level.overrides, "sensing": level.sensing,
-            "seeds": [seed + result.paths.index(p) for p in kept], "recordings": [p.name for p in kept]}
-        if progress:
-            progress(done, len(levels))
-    document = {"suite": SUITE_VERSION, "seed_base": SUITE_SEED_BASE, "duration": DURATION, "families": entries}
-    with atomic_path(manifest) as part:
-        part.write_text(json.dumps(document, indent=1))
-    return manifest
+    with stop_on_signal() as caught:
+        for done, (family, level, seed) in enumerate(levels, 1):
+            config = load_config(overrides={**level.overrides, "run.duration": DURATION, "run.seed": seed,
+                                            "run.arms": CANDIDATES})
+            result = simulate(config, folder / f"{family.name}_level{family.levels.index(level)}.mcap", force=True,
+                              arch=arch)
+            if caught or not result.complete:
+                return None
+            kept = keep_in_view(result.paths, SEEDS_PER_LEVEL, f"{family.name} {level.name}")
+            entries[family.name]["levels"][level.name] = {
+                "overrides": level.overrides, "sensing": level.sensing,
+                "seeds": [seed + result.paths.index(p) for p in kept], "recordings": [p.name for p in kept]}
+            if progress:
+                progress(done, len(levels))
+    return write_json(manifest, {"suite": SUITE_VERSION, "seed_base": SUITE_SEED_BASE, "duration": DURATION,
+                                 "families": entries})
 
 
 def keep_in_view(paths: list[Path], count: int, what: str) -> list[Path]:

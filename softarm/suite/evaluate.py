@@ -45,35 +45,27 @@ class CaseScorer:
     """Everything that is the same for every recording: networks, scalers, baselines, sensors."""
 
     def __init__(self, state: dict[str, Any], checkpoint: Path):
-        from softarm.imagine.imaginer import Imaginer
+        from softarm.learn.imaginer import Imaginer
         from softarm.learn.baselines import Baselines
-        from softarm.learn.checkpoint import checkpoint_config
-
         self.state, self.checkpoint = state, checkpoint
-        self.config = checkpoint_config(state)
         self.imaginer = Imaginer.from_checkpoint(state)
         self.baselines = Baselines.from_checkpoint(state)
 
     def score(self, case: SuiteCase, sensor_noise: Optional[dict[str, Any]]) -> dict[str, dict[str, np.ndarray]]:
         """Per-frame scores of every answer on one recording."""
+        from softarm.imagine.replay import read_as_trained
         from softarm.learn.baselines import ridge_predict
         from softarm.learn.codes import encode_frames
-        from softarm.learn.fits import check_recording_fits_checkpoint
         from softarm.learn.metrics import frame_scores
-        from softarm.record.reader import read_model, read_recording
-        from softarm.sense.reading import needs_nodes, sensed_stretch
 
         noise = sensor_noise if sensor_noise is not None else case.sensing
-        sensing = self.config.replace(**{f"sensing.{k}": v for k, v in noise.items()}).sensing
-        check_recording_fits_checkpoint(self.state, read_model(case.path), case.path.name, str(self.checkpoint),
-                                        sensing)
-        rec = read_recording(case.path, nodes=needs_nodes(sensing))
+        rec, stretch, _ = read_as_trained(self.state, self.checkpoint, case.path, noise)
         imaginer = self.imaginer
-        windows, targets = imaginer.windows(sensed_stretch(rec, sensing))
+        windows, targets = imaginer.windows(stretch)
         truth = rec.frames[targets]
         ridge = ridge_predict(self.baselines.ridge, imaginer.stretch_scaler.forward(windows))
         ceiling = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, truth))
-        ppm = float(np.hypot(*np.array(rec.model["camera"]["world_to_pixel"])[:, 0]))
+        ppm = rec.pixels_per_metre
         answers = {"model": imaginer.decode(imaginer.latents(windows)), "ridge": imaginer.decode(ridge),
                    "ae_ceiling": imaginer.decode(ceiling),
                    "mean_frame": np.broadcast_to(self.baselines.mean_frame, truth.shape)}

@@ -3,17 +3,19 @@
 A family is one question about the body image (does it hold beyond the paper's amplitude, its
 frequencies, band-limited noise, a pure sine below or at the arm's resonance, noisy sensors?); a level
 is one setting of it. Everything here is part of the suite's version: change a family, bump it.
-Seeds from SUITE_SEED_BASE on belong to the suite; a training corpus must stay below it.
+Seeds from SUITE_SEED_BASE on belong to the suite; training refuses recordings made from them.
 """
 
 from dataclasses import dataclass, field
 from typing import Any
 
+from softarm.arm.drive import HELD_OUT_SEED_BASE
+
 SUITE_VERSION = "softarm-suite/1"
-SUITE_SEED_BASE = 1_000_000   # seeds >= this are the suite's: corpora are refused them
+SUITE_SEED_BASE = HELD_OUT_SEED_BASE  # seeds >= this are the suite's: training refuses their recordings
 DURATION = 20.0               # s per recording
 SEEDS_PER_LEVEL = 2
-CANDIDATES = 4                # seeds simulated per level, of which the first SEEDS_PER_LEVEL in view are kept
+CANDIDATES = 4                # the first seeds of a level's block, simulated; the first SEEDS_PER_LEVEL in view are kept
 SEED_BLOCK = 10               # reserved seeds per level
 SUM = "excitation.sum_of_sines."
 
@@ -67,8 +69,8 @@ FAMILIES = (
 def level_seeds() -> list[tuple[Family, Level, int]]:
     """Every (family, level, first seed of its block) of the suite, in this order.
 
-    Each level owns a block of SEED_BLOCK seeds from SUITE_SEED_BASE on; its recordings are the first
-    SEEDS_PER_LEVEL seeds of the block whose arm stays in the camera's view.
+    Each level owns a block of SEED_BLOCK seeds from SUITE_SEED_BASE on; its recordings are, of the block's
+    first CANDIDATES seeds, the first SEEDS_PER_LEVEL whose arm stays in the camera's view.
     """
     out, seed = [], SUITE_SEED_BASE
     for family in FAMILIES:

@@ -39,16 +39,20 @@ def read_suite(folder: Union[str, Path]) -> Suite:
     try:
         document = json.loads(path.read_text())
         version, families = document["suite"], document["families"]
-    except (json.JSONDecodeError, KeyError, TypeError):
-        raise RecordingError(f"{path} is not a suite manifest") from None
-    if version != SUITE_VERSION:
-        raise RecordingError(f"{folder} holds {version}, but this softarm evaluates {SUITE_VERSION}: "
-                             f"write it again with softarm suite {folder} --force")
-    cases = [SuiteCase(family, level, folder / name, dict(entry["sensing"]))
-             for family, body in families.items() for level, entry in body["levels"].items()
-             for name in entry["recordings"]]
+        if version != SUITE_VERSION:
+            raise RecordingError(f"{folder} holds {version}, but this softarm evaluates {SUITE_VERSION}: "
+                                 f"write it again with softarm suite {folder} --force")
+        cases = [SuiteCase(family, level, folder / name, dict(entry["sensing"]))
+                 for family, body in families.items() for level, entry in body["levels"].items()
+                 for name in entry["recordings"]]
+        probes = {family: str(body["probes"]) for family, body in families.items()}
+    except (json.JSONDecodeError, KeyError, TypeError, AttributeError, ValueError):
+        raise RecordingError(f"{path} is not a suite manifest: write it again with softarm suite {folder} --force") from None
+    empty = sorted(set(probes) - {c.family for c in cases})
+    if empty:
+        raise RecordingError(f"{path}: family {empty[0]} has no recordings: write it again with softarm suite {folder} --force")
     missing = [c.path.name for c in cases if not c.path.is_file()]
     if missing:
         raise RecordingError(f"{folder} lacks {len(missing)} of the suite's recordings (first: {missing[0]}): "
                              f"write it again with softarm suite {folder} --force")
-    return Suite(version, {family: body["probes"] for family, body in families.items()}, cases)
+    return Suite(version, probes, cases)

@@ -1,11 +1,9 @@
 """`softarm evaluate` as one call: check the outputs, evaluate the checkpoint on the suite, write JSON and PNG."""
 
-import json
 from pathlib import Path
 from typing import Any, Optional, Union
 
-from softarm.errors import OutputError
-from softarm.files import atomic_path, check_outputs
+from softarm.files import check_outputs, write_json
 from softarm.suite.evaluate import Progress, evaluate_suite
 
 PathLike = Union[str, Path]
@@ -16,16 +14,10 @@ def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike
              progress: Optional[Progress] = None) -> dict[str, Any]:
     """Score `checkpoint` on every family of the suite in `suite` (see softarm.suite.evaluate); write the
     document as JSON and the bars as PNG where asked. Outputs are checked before any work."""
-    outputs = [Path(p) for p in (json_path, png) if p is not None]
-    if len(set(outputs)) != len(outputs):
-        raise OutputError("--json and --png must name different files")
-    check_outputs(outputs, force)
+    check_outputs([Path(p) for p in (json_path, png) if p is not None], force)
     evaluation = evaluate_suite(checkpoint, suite, sensor_noise=sensor_noise, progress=progress)
     if json_path is not None:
-        from softarm.learn.run import finite_or_null
-
-        with atomic_path(json_path) as part:
-            part.write_text(json.dumps(finite_or_null(evaluation), indent=1, allow_nan=False))
+        write_json(json_path, evaluation)
     if png is not None:
         from softarm.view.suite_plot import save_suite_png
 

@@ -10,8 +10,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from softarm.view.images import DIFFERENCE_CLASSES, DIFFERENCE_COLOURS, difference_codes, probability_bytes
-from softarm.view.stream import RerunStream
-from softarm.view.training_view import send_images
+from softarm.view.stream import RerunStream, send_images
 
 IMAGES = ("camera", "imagined", "difference", "fused")
 

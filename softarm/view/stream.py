@@ -9,6 +9,8 @@ import warnings
 from pathlib import Path
 from typing import Optional
 
+import numpy as np
+
 import rerun as rr
 import rerun.blueprint as rrb
 
@@ -46,3 +48,12 @@ class RerunStream:
         self.rec.disconnect()
         if self.rrd is not None:
             part_path(self.rrd).unlink(missing_ok=True)
+
+
+def send_images(rec: rr.RecordingStream, entity: str, indexes: list[rr.TimeColumn], pixels: np.ndarray) -> None:
+    """A column of (T, H, W) grey or (T, H, W, 3) colour byte images, one per time of `indexes`."""
+    count, height, width = pixels.shape[:3]
+    model = "L" if pixels.ndim == 3 else "RGB"
+    image_format = rr.components.ImageFormat(width=width, height=height, color_model=model, channel_datatype="U8")
+    rec.send_columns(entity, indexes=indexes, columns=rr.Image.columns(buffer=pixels.reshape(count, -1),
+                                                                       format=[image_format] * count))

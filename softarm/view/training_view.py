@@ -16,7 +16,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from softarm.view.images import probability_bytes
-from softarm.view.stream import RerunStream
+from softarm.view.stream import RerunStream, send_images
 
 CLIPS = ("truth", "reconstruction", "imagination")
 
@@ -75,11 +75,3 @@ class TrainingView:
                  tb: TracebackType | None) -> None:
         self.close()
 
-
-def send_images(rec: rr.RecordingStream, entity: str, indexes: list[rr.TimeColumn], pixels: np.ndarray) -> None:
-    """A column of (T, H, W) grey or (T, H, W, 3) colour byte images, one per time of `indexes`."""
-    count, height, width = pixels.shape[:3]
-    model = "L" if pixels.ndim == 3 else "RGB"
-    image_format = rr.components.ImageFormat(width=width, height=height, color_model=model, channel_datatype="U8")
-    rec.send_columns(entity, indexes=indexes, columns=rr.Image.columns(buffer=pixels.reshape(count, -1),
-                                                                       format=[image_format] * count))

@@ -10,7 +10,7 @@ from cli_helpers import assert_one_line_error, softarm
 from softarm.learn.checkpoint import load_checkpoint
 from softarm.config import load_config
 from softarm.learn.scaler import Scaler
-from softarm.imagine.imaginer import Imaginer
+from softarm.learn.imaginer import Imaginer
 from softarm.learn.run import train
 
 from conftest import TINY

@@ -103,3 +103,28 @@ def test_evaluate_refuses_a_folder_without_a_suite(tiny_checkpoint, tmp_path):
     result = softarm("evaluate", str(tiny_checkpoint.checkpoint), str(tmp_path), "--json", "e.json", cwd=tmp_path)
     assert_one_line_error(result, "holds no suite", "softarm suite")
     assert not (tmp_path / "e.json").exists()
+
+
+def test_training_refuses_a_recording_of_the_suite(suite_folder, tmp_path):
+    held_out = read_suite(suite_folder).cases[0].path
+    result = softarm("train", str(held_out), "--out", "x.pt", cwd=tmp_path)
+    assert_one_line_error(result, held_out.name, "held-out")
+    assert not (tmp_path / "x.pt").exists()
+
+
+def test_ctrl_c_stops_the_suite_without_a_manifest(tmp_path):
+    import signal
+    import subprocess
+    import time
+
+    from cli_helpers import SOFTARM
+
+    proc = subprocess.Popen([SOFTARM, "suite", str(tmp_path), "-q"], cwd=tmp_path, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while not list(tmp_path.glob("*.mcap")) and time.time() < deadline:  # the first level's files have closed
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, stderr
+    assert "interrupted" in stderr and not (tmp_path / "suite.json").exists()
