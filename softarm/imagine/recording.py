@@ -34,12 +34,12 @@ def write_imagination(result: "Replay", path: Union[str, Path], imagined_bytes: 
     nothing is left behind if writing fails."""
     mcap = McapFile(Path(path), (IMAGE,), {IOU: IOU_SCHEMA})
     try:
-        height, width = result.imagined.shape[1:]
-        pixels = imagined_bytes.reshape(len(result.imagined), -1)
-        for k in np.flatnonzero(result.predicted):
-            ns = int(round(result.times[k] * 1e9))
-            mcap.add_image(IMAGE, ns, pixels[k].tobytes(), height, width, "camera")
-            mcap.add(IOU, ns, orjson.dumps({"t": ns / 1e9, "iou": float(result.iou[k]), "blind": bool(result.blind[k])}))
+        frames = np.flatnonzero(result.predicted)
+        stamps = [int(round(result.times[k] * 1e9)) for k in frames]
+        mcap.add_frames(stamps, {
+            IMAGE: mcap.images(imagined_bytes[frames], stamps),
+            IOU: [orjson.dumps({"t": ns / 1e9, "iou": float(result.iou[k]), "blind": bool(result.blind[k])})
+                  for ns, k in zip(stamps, frames)]})
         source = result.recording.path
         return mcap.close({META: {
             "format": FORMAT, "checkpoint": str(result.checkpoint), "checkpoint_sha256": fingerprint(result.checkpoint),

@@ -5,23 +5,26 @@ Shared by the recorder and the imagination writer, so both follow the same rules
 """
 
 from pathlib import Path
+from typing import Sequence
 
+import numpy as np
 from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
-from mcap.writer import CompressionType, Writer
 from mcap_protobuf.schema import build_file_descriptor_set
 
 from softarm import __version__
 from softarm.files import part_path, publish
+from softarm.record.mcap_writer import McapWriter
+from softarm.record.raw_image import RawImageEncoder
 
 
 class McapFile:
-    """One MCAP file being written: channels registered up front, messages added, closed or discarded."""
+    """One MCAP file being written: channels registered up front, messages added in blocks, closed or discarded."""
 
     def __init__(self, path: Path, image_topics: tuple[str, ...], json_schemas: dict[str, tuple[str, bytes]]):
         self.path = Path(path)
         self.part = part_path(self.path)
         self._file = open(self.part, "wb")
-        self.writer = Writer(self._file, compression=CompressionType.ZSTD)
+        self.writer = McapWriter(self._file)
         self.writer.start(profile="", library=f"softarm/{__version__}")
         self.channels: dict[str, int] = {}
         if image_topics:
@@ -32,18 +35,20 @@ class McapFile:
         for topic, (name, schema) in json_schemas.items():
             schema_id = self.writer.register_schema(name, "jsonschema", schema)
             self.channels[topic] = self.writer.register_channel(topic, "json", schema_id)
-        self._image = RawImage(encoding="mono8")
+        self._images: dict[tuple[int, int], RawImageEncoder] = {}
 
-    def add(self, topic: str, ns: int, data: bytes) -> None:
-        """One message; log time = publish time = ns."""
-        self.writer.add_message(self.channels[topic], ns, data, ns)
+    def add_frames(self, stamps: Sequence[int], messages: dict[str, Sequence[bytes]]) -> None:
+        """One message per frame on each topic, frame by frame in the order of `messages`; log time = publish
+        time = the frame's stamp (ns)."""
+        channels = [self.channels[topic] for topic in messages]
+        self.writer.add_messages(channels * len(stamps), np.repeat(stamps, len(channels)).tolist(),
+                                 [data for frame in zip(*messages.values()) for data in frame])
 
-    def add_image(self, topic: str, ns: int, pixels: bytes, height: int, width: int, frame_id: str) -> None:
-        """A mono8 foxglove.RawImage, rows of `width` bytes."""
-        image = self._image
-        image.timestamp.FromNanoseconds(ns)
-        image.frame_id, image.width, image.height, image.step, image.data = frame_id, width, height, width, pixels
-        self.add(topic, ns, image.SerializeToString())
+    def images(self, pixels: np.ndarray, stamps: Sequence[int]) -> list[bytes]:
+        """mono8 foxglove.RawImage messages of (n, height, width) bytes, frame id "camera"."""
+        n, height, width = pixels.shape
+        encoder = self._images.setdefault((height, width), RawImageEncoder(height, width, "camera"))
+        return encoder.encode(pixels.reshape(n, -1), stamps)
 
     def close(self, metadata: dict[str, dict[str, str]]) -> Path:
         """Add the closing metadata records, write summary and index, rename to the final path."""

@@ -1,139 +1,158 @@
-"""Recording beside the simulation: a child process encodes and writes the MCAP files of a batch.
+"""Recording beside the simulation: writer processes encode and write the MCAP files of a batch.
 
-Encoding (protobuf, JSON) and writing take about as long as the physics of a default run, so doing
-them in the simulating process would make recording the slowest stage. The child owns one
-`RecordingWriter` per arm and takes whole blocks through a bounded queue (at most two blocks in
-flight, so a slow disk slows the simulation instead of filling memory). It ignores Ctrl-C: the
-parent decides, then asks it to close (keeping what was recorded) or to discard; a child whose
-parent died discards its files by itself.
+Encoding and writing cost about as much as the physics, so they run in other processes, one per core
+(each owns some arms), while the simulation steps the next block. Blocks travel through two shared
+slots, so a slow disk slows the simulation instead of filling memory and nothing is pickled. The parent
+never blocks without a timeout on a writer: a writer that dies (killed, out of memory) or fails (a full
+disk) is noticed within a second, the others close their files with every frame, and `WriterFailed`
+says which file holds how many frames.
 """
 
 import multiprocessing
 import os
-import queue
 import signal
+from multiprocessing.connection import Connection, wait
 from pathlib import Path
-from typing import Any
+from typing import Callable
 
 import numpy as np
 
-from softarm.errors import OutputError
+from softarm.errors import RecordingError
 from softarm.files import part_path
-from softarm.record.writer import RecordingWriter
+from softarm.record.slots import BlockShape, Slot
+from softarm.record.writer_process import Spec, serve
 
-IN_FLIGHT = 2
+IN_FLIGHT = 2          # slots: one filled by the simulation while the writers encode the other
+GIVE_UP_SECONDS = 30   # a writer that answers nothing for this long while it closes is killed
 
 
-def _serve(specs: list[tuple[Path, dict[str, Any], float]], inbox: Any, outbox: Any, parent: int) -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole process group; the parent decides
-    writers: list[RecordingWriter] = []
-    try:
-        for path, model, frame_dt in specs:
-            writers.append(RecordingWriter(path, model, frame_dt))
-        outbox.put(("ready", None))
-        while True:
-            try:
-                message = inbox.get(timeout=1.0)
-            except queue.Empty:
-                if os.getppid() != parent:  # the parent died without a word: leave nothing half written
-                    message = ("discard",)
-                else:
-                    continue
-            if message[0] == "write":
-                images, readings, positions, displacements = message[1:]
-                for arm, writer in enumerate(writers):
-                    writer.write(images[arm], readings[arm], positions[arm], displacements[arm])
-            elif message[0] == "close":
-                for writer in writers:
-                    writer.close(message[1])
-                outbox.put(("closed", None))
-                return
-            else:
-                for writer in writers:
-                    writer.discard()
-                outbox.put(("discarded", None))
-                return
-    except Exception as e:  # tell the parent in one line, leave no partial file
-        for writer in writers:
-            writer.discard()
-        outbox.put(("error", f"{type(e).__name__}: {e}"))
+class WriterFailed(RecordingError):
+    """A writer process died or failed; the files were kept (closed, or as recoverable .part files)."""
 
 
 class RecorderProcess:
-    """The writers of a batch, in a child process. `write` blocks only when two blocks are already queued."""
+    """The writers of a batch. `write` blocks only while both slots are still being written."""
 
-    def __init__(self, specs: list[tuple[Path, dict[str, Any], float]]):
-        context = multiprocessing.get_context("fork")  # no re-import: the child starts in milliseconds
-        self._parts = [part_path(path) for path, _, _ in specs]
-        self._inbox = context.Queue(maxsize=IN_FLIGHT)
-        self._outbox = context.Queue()
-        self._process = context.Process(target=_serve, args=(specs, self._inbox, self._outbox, os.getpid()),
-                                        daemon=True)
-        self._process.start()
-        self._expect("ready")
+    def __init__(self, specs: list[Spec], shape: BlockShape, processes: int = 0):
+        context = multiprocessing.get_context("fork")  # no re-import: a writer starts in milliseconds
+        self.paths = [Path(path) for path, _, _ in specs]
+        self.slots = [Slot(shape) for _ in range(IN_FLIGHT)]
+        count = max(1, min(len(specs), processes or os.cpu_count() or 1))
+        self._conns: list[Connection] = []
+        self._processes: list[multiprocessing.process.BaseProcess] = []
+        for k in range(count):
+            parent_end, child_end = context.Pipe()
+            process = context.Process(target=serve, args=(list(range(k, len(specs), count)), specs, self.slots,
+                                                          child_end, os.getpid()), daemon=True)
+            process.start()
+            child_end.close()
+            self._conns.append(parent_end)
+            self._processes.append(process)
+        self._busy: list[set[int]] = [set() for _ in range(IN_FLIGHT)]
+        self._next = 0
+        self._await(lambda k, message: message[0] == "ready", range(count))
 
     def write(self, images: np.ndarray, readings: np.ndarray, positions: np.ndarray, displacements: np.ndarray) -> None:
-        """Queue one block of every arm. The arrays are copied now: the caller reuses its buffers."""
-        self._put(("write", images.copy(), readings.copy(), positions.copy(), displacements.copy()))
+        """Share one block of every arm with the writers (copied into the next free slot)."""
+        slot = self._next
+        self._next = (slot + 1) % IN_FLIGHT
+        self._drain(slot)
+        n = self.slots[slot].put(images, readings, positions, displacements)
+        for k in range(len(self._conns)):
+            self._send(k, ("write", slot, n))
+        self._busy[slot] = set(range(len(self._conns)))
 
     def close(self, complete: bool) -> None:
         """Finish every file (complete or not) and wait until they are renamed into place."""
-        self._put(("close", complete))
-        self._expect("closed")
+        for slot in range(IN_FLIGHT):
+            self._drain(slot)
+        for k in range(len(self._conns)):
+            self._send(k, ("close", complete))
+        self._await(lambda k, message: message[0] == "closed", range(len(self._conns)))
+        self._join()
 
     def discard(self) -> None:
-        """Remove every unfinished file and wait until they are gone (ending the child if it hangs)."""
-        try:
-            if self._process.is_alive():
-                self._put(("discard",))
-                self._process.join(timeout=30)
-        except OutputError:
-            pass
-        finally:
-            if self._process.is_alive():
-                self._process.kill()
-                self._process.join()
-            for part in self._parts:
-                part.unlink(missing_ok=True)
+        """Remove every unfinished file (a refused or blown-up run leaves nothing) and end the writers."""
+        for k, process in enumerate(self._processes):
+            if process.is_alive():
+                try:
+                    self._conns[k].send(("discard",))
+                except OSError:
+                    pass
+        self._join()
+        for path in self.paths:
+            part_path(path).unlink(missing_ok=True)
 
-    def _put(self, message: tuple) -> None:
-        while True:
+    def keep(self) -> None:
+        """After a failure: the living writers close their files with what they hold (complete = "false")."""
+        living = [k for k, process in enumerate(self._processes) if process.is_alive()]
+        for k in living:
             try:
-                self._inbox.put(message, timeout=0.5)
-                return
-            except queue.Full:
-                self._raise_if_failed()
+                self._conns[k].send(("close", False))
+            except OSError:
+                pass
+        for k in living:
+            if self._conns[k].poll(GIVE_UP_SECONDS):
+                try:
+                    self._conns[k].recv()
+                except (EOFError, OSError):
+                    pass
+        self._join()
 
-    def _raise_if_failed(self) -> None:
-        try:
-            kind, detail = self._outbox.get_nowait()
-        except queue.Empty:
-            if not self._process.is_alive():
-                self._raise_dead()
-            return
-        if kind == "error":
-            raise OutputError(f"recording failed: {detail}")
+    def _drain(self, slot: int) -> None:
+        """Wait until no writer is still reading `slot`."""
+        busy = self._busy[slot]
+        while busy:
+            k, message = self._receive()
+            if message[0] == "wrote":
+                self._busy[message[1]].discard(k)
 
-    def _raise_dead(self) -> None:
-        """The child is gone: report its last word if it left one."""
-        try:
-            kind, detail = self._outbox.get(timeout=0.5)
-        except queue.Empty:
-            raise OutputError("the recording process stopped unexpectedly") from None
-        raise OutputError(f"recording failed: {detail}" if kind == "error" else "the recording process stopped early")
+    def _await(self, done: Callable[[int, tuple], bool], writers: range) -> None:
+        waiting = set(writers)
+        while waiting:
+            k, message = self._receive()
+            if message[0] == "wrote":
+                self._busy[message[1]].discard(k)
+            elif done(k, message):
+                waiting.discard(k)
 
-    def _expect(self, kind: str) -> None:
+    def _receive(self) -> tuple[int, tuple]:
+        """The next message of any writer; a failure or a dead writer raises WriterFailed."""
+        sentinels = {process.sentinel: k for k, process in enumerate(self._processes)}
         while True:
-            try:
-                got, detail = self._outbox.get(timeout=0.5)
-            except queue.Empty:
-                if not self._process.is_alive():
-                    self._raise_dead()
-                continue
-            if got == "error":
-                self._process.join(timeout=30)
-                raise OutputError(f"recording failed: {detail}")
-            if got == kind:
-                if kind != "ready":  # closed: the child has finished its work
-                    self._process.join(timeout=30)
-                return
+            for conn in self._conns:
+                if conn.poll():
+                    k = self._conns.index(conn)
+                    try:
+                        message = conn.recv()
+                    except (EOFError, OSError):
+                        self._fail(k, None)
+                    if message[0] == "failed":
+                        self._fail(k, message[1])
+                    return k, message
+            ready = wait([*self._conns, *sentinels], timeout=1.0)
+            for item in ready:
+                if item in sentinels and not self._conns[sentinels[item]].poll():
+                    self._fail(sentinels[item], None)
+
+    def _send(self, k: int, message: tuple) -> None:
+        try:
+            self._conns[k].send(message)
+        except OSError:  # the writer is gone
+            self._fail(k, None)
+
+    def _fail(self, k: int, reason: str | None) -> None:
+        process = self._processes[k]
+        process.join(timeout=1)
+        if reason is None:
+            code = process.exitcode
+            reason = (f"killed by {signal.Signals(-code).name}" if code is not None and code < 0
+                      else f"exited with code {code}" if code is not None else "stopped answering")
+        raise WriterFailed(f"writer process {k + 1} of {len(self._processes)} failed ({reason})")
+
+    def _join(self) -> None:
+        for process in self._processes:
+            process.join(timeout=GIVE_UP_SECONDS)
+            if process.is_alive():
+                process.kill()
+                process.join()

@@ -87,6 +87,21 @@ def read_model(path: Union[str, Path]) -> dict[str, Any]:
     raise RecordingError(f"{path} is an MCAP file but not a softarm recording (no '{META_MODEL}' metadata)")
 
 
+def count_frames(path: Union[str, Path]) -> int:
+    """Complete frames a file holds (every topic present), read front to back: a `.part` file too."""
+    channels: dict[int, str] = {}
+    stamps: dict[str, set[int]] = {t: set() for t in TOPICS}
+    try:
+        for record in _records(Path(path)):
+            if isinstance(record, Channel):
+                channels[record.id] = record.topic
+            elif isinstance(record, Message) and channels.get(record.channel_id) in stamps:
+                stamps[channels[record.channel_id]].add(record.log_time)
+    except _Truncated:
+        pass
+    return len(set.intersection(*stamps.values()))
+
+
 def _topics(nodes: bool) -> tuple[str, ...]:
     return TOPICS if nodes else tuple(t for t in TOPICS if t != NODES)
 

@@ -60,19 +60,17 @@ class RecordingWriter:
 
     def write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray) -> None:
         """Append a block of frames: images (B, H, W) of 0/1, stretch (B, P), positions (B, N, 2), displacement (B,)."""
-        n, height, width = images.shape
-        pixels = (images.astype(np.uint8) * 255).reshape(n, -1)
+        n = len(images)
+        stamps = np.round(np.arange(self.frames, self.frames + n) * self.frame_dt * 1e9).astype(np.int64).tolist()
+        seconds = [ns / 1e9 for ns in stamps]
         positions = np.round(positions, POSITION_DECIMALS)  # a fresh C-contiguous array, as orjson needs
         stretch = np.ascontiguousarray(stretch, np.float64)
-        k = np.arange(self.frames, self.frames + n)
-        stamps = np.round(k * self.frame_dt * 1e9).astype(np.int64).tolist()
-        add, numpy = self._mcap.add, orjson.OPT_SERIALIZE_NUMPY
-        for f, ns in enumerate(stamps):
-            t = ns / 1e9
-            self._mcap.add_image(IMAGE, ns, pixels[f].tobytes(), height, width, "camera")
-            add(STRETCH, ns, orjson.dumps({"t": t, "stretch": stretch[f]}, option=numpy))
-            add(NODES, ns, orjson.dumps({"t": t, "positions": positions[f]}, option=numpy))
-            add(EXCITATION, ns, orjson.dumps({"t": t, "displacement": float(displacement[f])}))
+        dumps, numpy = orjson.dumps, orjson.OPT_SERIALIZE_NUMPY
+        self._mcap.add_frames(stamps, {
+            IMAGE: self._mcap.images(np.multiply(images, 255, dtype=np.uint8), stamps),
+            STRETCH: [dumps({"t": t, "stretch": s}, option=numpy) for t, s in zip(seconds, stretch)],
+            NODES: [dumps({"t": t, "positions": p}, option=numpy) for t, p in zip(seconds, positions)],
+            EXCITATION: [dumps({"t": t, "displacement": float(d)}) for t, d in zip(seconds, displacement)]})
         self.frames += n
 
     def close(self, complete: bool) -> Path:

@@ -12,7 +12,10 @@ from softarm.arm.sensors import stretch
 from softarm.config import Config
 from softarm.files import check_outputs
 from softarm.interrupt import stop_on_signal
-from softarm.record.process import RecorderProcess
+from softarm.errors import SimulationError
+from softarm.record.kept import describe_kept
+from softarm.record.process import RecorderProcess, WriterFailed
+from softarm.record.slots import BlockShape
 from softarm.record.writer import model_metadata
 from softarm.sim import check_arch
 
@@ -68,12 +71,16 @@ def output_paths(config: Config, out: Union[str, Path, None] = None) -> list[Pat
 
 BLOCK_BYTES = 256 * 2**20  # device memory for one block of positions and images, all arms together
 MAX_BLOCK_FRAMES = 500      # 5 s: long enough that Taichi's cost per kernel launch does not show
+BLOCK_ARM_FRAMES = 6400     # arm-frames per block: the writers' work left after the last block stays short
+MIN_BLOCK_FRAMES = 50
 
 
 def block_frames_for(config: Config, n_nodes: int) -> int:
-    """Frames per kernel launch: as many as fit BLOCK_BYTES for the whole batch, at most MAX_BLOCK_FRAMES."""
+    """Frames per kernel launch: about BLOCK_ARM_FRAMES arm-frames (one arm: MAX_BLOCK_FRAMES), never more than
+    fit BLOCK_BYTES for the whole batch. Smaller blocks for big batches keep the writers close behind."""
     per_frame = config.run.arms * (n_nodes * 2 * 8 + config.camera.height * config.camera.width)
-    return max(1, min(MAX_BLOCK_FRAMES, config.n_frames, BLOCK_BYTES // per_frame))
+    target = min(MAX_BLOCK_FRAMES, max(MIN_BLOCK_FRAMES, BLOCK_ARM_FRAMES // config.run.arms))
+    return max(1, min(target, config.n_frames, BLOCK_BYTES // per_frame))
 
 
 def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = False, arch: str = "cpu",
@@ -104,12 +111,19 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
         specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
                  for path, drive, seed, p0, v0 in zip(paths, batch.drives, batch.seeds, batch.positions,
                                                        batch.velocities)]
-        recorder = RecorderProcess(specs)
+        recorder = RecorderProcess(specs, BlockShape(batch.arms, block_frames, config.camera.height,
+                                                     config.camera.width, len(body.sensors), body.n_nodes))
         laps.lap("setup")
         try:
             done, complete = record_blocks(config, batch, sim, camera, recorder, laps, progress)
-        except BaseException:
+        except SimulationError:  # a blow-up leaves nothing behind
             recorder.discard()
+            raise
+        except WriterFailed as failure:  # everything that reached the disk stays, and the message says where
+            recorder.keep()
+            raise WriterFailed(f"recording stopped: {failure}; {describe_kept(paths)}") from None
+        except BaseException:
+            recorder.keep()
             raise
     finally:
         sim.close()
