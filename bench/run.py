@@ -5,7 +5,8 @@
 Prints a Markdown table and writes it, with the raw figures, to bench/results/latest.{md,json}.
 Sections: physics (Taichi vs the float64 NumPy reference), physics vs C (Taichi on every core vs
 hand-written serial C -O3 on one core, bench/physics_reference.c), rasteriser (Taichi vs cv2.fillPoly),
-end to end (`softarm sim` with defaults, start-up included, vs real time).
+end to end (`softarm sim` with defaults, start-up included, vs real time), and batches end to end
+(`softarm sim --arms 64|256 --duration 10`, files written, vs the C loop's physics time for the same work).
 """
 
 import argparse
@@ -92,10 +93,7 @@ def c_reference_rows(config, quick: bool) -> list[dict]:
         for start in range(0, frames, 100):
             step(min(100, frames - start))
 
-    c = CReference.from_config(config, one)
-    frames = frames_for(1)
-    c.advance(100)  # warm up caches and the drive's first cycle outside the timing
-    c_rate = frames * per_frame / best_of(3, lambda: in_blocks(c.advance, frames))  # the divisor of every row
+    c_rate = c_reference_rate(config, frames_for(1))  # the divisor of every row
     numpy_frames = 5 if quick else 20
     numpy_s = best_of(3, lambda: simulate_reference(one.body, one.drives[0], one.positions[0], one.velocities[0],
                                                     i.frame_dt, i.substeps, numpy_frames + 1))
@@ -108,6 +106,37 @@ def c_reference_rows(config, quick: bool) -> list[dict]:
         seconds = best_of(repeats, lambda: in_blocks(sim.step_block, frames))
         rows.append(row(f"physics vs C, {arms} arm{'s' if arms > 1 else ''}", arms * frames * per_frame / seconds,
                         c_rate, "spring updates/s", against))
+    return rows
+
+
+def c_reference_rate(config, frames: int) -> float:
+    """Spring updates per second of the serial C loop on one arm (its rate for any batch: arms run in turn)."""
+    one = arm_batch(config, seeds=[0])
+    c = CReference.from_config(config, one)
+    c.advance(100)  # warm up caches and the drive's first cycle outside the timing
+    seconds = best_of(3, lambda: [c.advance(min(100, frames - start)) for start in range(0, frames, 100)])
+    return frames * config.integration.substeps * len(one.body.springs) / seconds
+
+
+def batch_rows(config, quick: bool) -> list[dict]:
+    """`softarm sim --arms N --duration 10`, files written, start-up included, against the time the serial C
+    loop needs for the same physics (arms x frames x substeps x springs at its measured rate)."""
+    if find_compiler() is None:
+        print("batch vs C: skipped, no C compiler (cc or gcc) on PATH", file=sys.stderr)
+        return []
+    duration = 2.0 if quick else 10.0
+    springs = len(arm_batch(config, seeds=[0]).body.springs)
+    c_rate = c_reference_rate(config, 300 if quick else 2000)
+    softarm = str(Path(sys.executable).with_name("softarm"))
+    rows = []
+    for arms in ((64,) if quick else (64, 256)):
+        with tempfile.TemporaryDirectory() as folder:
+            args = [softarm, "sim", "--arms", str(arms), "--duration", str(duration), "--out", "b.mcap", "-q"]
+            subprocess.run(args, cwd=folder, check=True)  # the first run of a batch shape compiles its kernel
+            seconds = best_of(1 if quick else 2, lambda: subprocess.run([*args, "--force"], cwd=folder, check=True))
+        c_seconds = arms * round(duration / config.integration.frame_dt) * config.integration.substeps * springs / c_rate
+        rows.append(row(f"softarm sim --arms {arms} --duration {duration:g}, files written (start-up included)",
+                        seconds, c_seconds, "s", "serial C physics time for the same arms and seconds (lower is better)"))
     return rows
 
 
@@ -181,7 +210,7 @@ def main() -> None:
     init_taichi("cpu")
     config = load_config()
     rows = (physics_rows(config, args.quick) + c_reference_rows(config, args.quick) + raster_rows(config, args.quick)
-            + end_to_end_rows(args.quick))
+            + end_to_end_rows(args.quick) + batch_rows(config, args.quick))
     table = to_markdown(rows) + "\n\n" + stage_table(args.quick)
     print(f"machine: {machine()}\n\n{table}")
     args.out.mkdir(parents=True, exist_ok=True)

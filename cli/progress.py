@@ -1,4 +1,5 @@
-"""A progress bar that appears on the first update, so errors found before any work print alone."""
+"""A progress bar that appears on the first update, so errors found before any work print alone; only on a
+terminal, so that a log or a pipe holds the command's messages and nothing else."""
 
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
@@ -14,7 +15,7 @@ class LazyProgress:
 
     def update(self, done: int, total: int | None = None, **fields: str) -> None:
         """Show `done` of the total (which `total` may change, e.g. once a job knows its size)."""
-        if self.quiet:
+        if self.quiet or not self.console.is_terminal:  # a log or a pipe gets the summary, not a bar's last frame
             return
         if total is not None:
             self.total = total

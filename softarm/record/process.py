@@ -49,6 +49,7 @@ class RecorderProcess:
             self._conns.append(parent_end)
             self._processes.append(process)
         self._busy: list[set[int]] = [set() for _ in range(IN_FLIGHT)]
+        self._finished: set[int] = set()  # writers that closed or discarded their files and exited
         self._next = 0
         self._await(lambda k, message: message[0] == "ready", range(count))
 
@@ -115,14 +116,17 @@ class RecorderProcess:
                 self._busy[message[1]].discard(k)
             elif done(k, message):
                 waiting.discard(k)
+                if message[0] in ("closed", "discarded"):
+                    self._finished.add(k)
 
     def _receive(self) -> tuple[int, tuple]:
         """The next message of any writer; a failure or a dead writer raises WriterFailed."""
-        sentinels = {process.sentinel: k for k, process in enumerate(self._processes)}
+        living = [k for k in range(len(self._processes)) if k not in self._finished]
+        sentinels = {self._processes[k].sentinel: k for k in living}
         while True:
-            for conn in self._conns:
+            for k in living:
+                conn = self._conns[k]
                 if conn.poll():
-                    k = self._conns.index(conn)
                     try:
                         message = conn.recv()
                     except (EOFError, OSError):
@@ -130,7 +134,7 @@ class RecorderProcess:
                     if message[0] == "failed":
                         self._fail(k, message[1])
                     return k, message
-            ready = wait([*self._conns, *sentinels], timeout=1.0)
+            ready = wait([*(self._conns[k] for k in living), *sentinels], timeout=1.0)
             for item in ready:
                 if item in sentinels and not self._conns[sentinels[item]].poll():
                     self._fail(sentinels[item], None)

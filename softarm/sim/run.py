@@ -18,6 +18,7 @@ from softarm.record.process import RecorderProcess, WriterFailed
 from softarm.record.slots import BlockShape
 from softarm.record.writer import model_metadata
 from softarm.sim import check_arch
+from softarm.sim.budget import check_resources
 
 if TYPE_CHECKING:
     from softarm.sim.physics import Simulator
@@ -98,6 +99,7 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     start = time.perf_counter()
     laps = Laps()
     check_arch(arch)
+    check_resources(config, DEFAULT_FOLDER if out is None else Path(out).parent)  # before any array is made
     batch = arm_batch(config)  # config errors first: a refused run creates no folder
     paths = output_paths(config, out)
     check_outputs(paths, force)
