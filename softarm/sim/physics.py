@@ -15,7 +15,10 @@ from softarm.arm.body import Body
 from softarm.arm.drive import KIND_CODES, Drive
 from softarm.config import Config
 from softarm.errors import SimulationError
-from softarm.sim.runtime import task_layout
+from softarm.sim.runtime import device_array, host, task_layout, upload
+
+f64nd = ti.types.ndarray(dtype=ti.f64, ndim=4)
+i32nd = ti.types.ndarray(dtype=ti.i32, ndim=2)
 
 
 @ti.func
@@ -101,7 +104,8 @@ class Simulator:
     The state lives in Taichi fields whose shapes are fixed per simulator, so the kernel's index
     arithmetic is constant (faster than ndarrays with runtime shapes: README, Benchmarks), at the price of one
     kernel compile per simulator (Taichi's offline cache keeps it for the next run of the same shape).
-    `history` is the host copy of the last block: (arms, block_frames, N, 2).
+    `history` holds the last block's positions, (arms, block_frames, N, 2): on the CPU the kernel writes
+    it in place (no copy), on a GPU it is the host copy of a device array.
     """
 
     def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
@@ -112,16 +116,14 @@ class Simulator:
         self.kind = KIND_CODES[drives[0].kind]
         self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
         self.arms, self.block_frames, self.frame = arms, block_frames, 0
-        self.x, self.v, self.force, self.rest, self.positions = (ti.Vector.field(2, ti.f64) for _ in range(5))
+        self.x, self.v, self.force, self.rest = (ti.Vector.field(2, ti.f64) for _ in range(4))
         self.springs, self.spring_params = ti.Vector.field(2, ti.i32), ti.Vector.field(3, ti.f64)
         self.mass, self.amplitude, self.time_offset = (ti.field(ti.f64) for _ in range(3))
         self.freqs, self.amps, self.phases = (ti.field(ti.f64) for _ in range(3))
         self.direction = ti.Vector.field(2, ti.f64, shape=())
-        self.free, self.status = ti.field(ti.i32), ti.field(ti.i32)
+        self.free = ti.field(ti.i32)
         builder = ti.FieldsBuilder()
         builder.dense(ti.ij, (arms, n)).place(self.x, self.v, self.force)
-        builder.dense(ti.ijk, (arms, block_frames, n)).place(self.positions)
-        builder.dense(ti.ij, (arms, 2)).place(self.status)
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
@@ -137,9 +139,11 @@ class Simulator:
                 self.direction: drives[0].direction}
         for field, values in fill.items():
             field.from_numpy(np.ascontiguousarray(values, np.float64))
-        for field, values in {self.status: np.full((arms, 2), -1), self.free: body.free, self.springs: body.springs}.items():
+        for field, values in {self.free: body.free, self.springs: body.springs}.items():
             field.from_numpy(np.ascontiguousarray(values, np.int32))
-        self.history = np.zeros((arms, block_frames, n, 2))
+        self._positions = device_array((arms, block_frames, n, 2), "float64")
+        self._status = upload(np.full((arms, 2), -1, np.int32))
+        self.history = host(self._positions)
         self._tasks = task_layout(arms)
 
     @classmethod
@@ -151,7 +155,8 @@ class Simulator:
                    batch.positions, batch.velocities, block_frames)
 
     @ti.kernel
-    def _advance(self, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32, frame_dt: ti.f64,
+    def _advance(self, positions: f64nd, status: i32nd, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
+                 frame_dt: ti.f64,
                  blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, kind: ti.i32, tasks: ti.i32, spacing: ti.i32):
         """Record each arm's state as frames first_frame.. into positions[:, :n_frames], stepping between them.
 
@@ -168,8 +173,9 @@ class Simulator:
                     a = task + j * tasks
                     for f in range(n_frames):
                         for i in range(self.x.shape[1]):
-                            self.positions[a, f, i] = self.x[a, i]
-                        if self.status[a, 0] < 0:
+                            positions[a, f, i, 0] = self.x[a, i][0]
+                            positions[a, f, i, 1] = self.x[a, i][1]
+                        if status[a, 0] < 0:
                             k = first_frame + f
                             for s in range(substeps):
                                 accumulate_forces(a, self.x, self.v, self.force, self.springs, self.spring_params,
@@ -179,17 +185,18 @@ class Simulator:
                                         self.amplitude, self.freqs, self.amps, self.phases, self.direction)
                             far = first_far_node(a, self.x, self.rest, self.free, blowup_distance)
                             if far >= 0:
-                                self.status[a, 0] = k + 1
-                                self.status[a, 1] = far
+                                status[a, 0] = k + 1
+                                status[a, 1] = far
 
     def step_block(self, n_frames: int) -> None:
-        """Fill `history[:, :n_frames]` with the next n_frames frames and step past them."""
+        """Fill `history[:, :n_frames]` with the next n_frames frames and step past them (history is reused:
+        read it before the next call)."""
         if not 1 <= n_frames <= self.block_frames:
             raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
         gx, gy = self.body.gravity
-        self._advance(self.frame, n_frames, self.substeps, self.frame_dt, self.blowup_distance, float(gx), float(gy),
+        self._advance(self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt, self.blowup_distance, float(gx), float(gy),
                       self.kind, *self._tasks)
-        self.history = self.positions.to_numpy()
+        self.history = host(self._positions)
         self.frame += n_frames
         self._raise_on_blowup()
 
@@ -199,7 +206,7 @@ class Simulator:
         while n_frames > 0:
             block = min(n_frames, self.block_frames)
             self.step_block(block)
-            out.append(self.history[:, :block])
+            out.append(self.history[:, :block].copy())  # the next block overwrites history in place
             n_frames -= block
         return np.concatenate(out, axis=1)
 
@@ -208,7 +215,7 @@ class Simulator:
         self._tree.destroy()
 
     def _raise_on_blowup(self) -> None:
-        status = self.status.to_numpy()
+        status = host(self._status)
         bad = np.flatnonzero(status[:, 0] >= 0)
         if len(bad) == 0:
             return
