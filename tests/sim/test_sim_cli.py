@@ -35,6 +35,14 @@ def test_same_config_and_seed_give_byte_identical_files(tmp_path):
     assert (tmp_path / "a.mcap").read_bytes() == (tmp_path / "b.mcap").read_bytes()
 
 
+def test_a_batch_written_by_several_writers_is_byte_identical_run_after_run(tmp_path):
+    for folder in ("one", "two"):
+        result = softarm("sim", "--duration", "3", "--arms", "3", "--out", f"{folder}/b.mcap", "-q", cwd=tmp_path)
+        assert result.returncode == 0, result.stderr
+    for arm in range(3):
+        assert (tmp_path / "one" / f"b_arm{arm}.mcap").read_bytes() == (tmp_path / "two" / f"b_arm{arm}.mcap").read_bytes()
+
+
 def test_batch_arms_write_one_file_each_equal_to_their_single_seed_runs(tmp_path):
     assert softarm("sim", "--duration", "0.3", "--arms", "2", "--seed", "5", "--out", "b.mcap", "-q",
                    cwd=tmp_path).returncode == 0
