@@ -13,6 +13,7 @@ from softarm.config import DEFAULT_CONFIG_TEXT, load_config
 from softarm.errors import SoftarmError
 from softarm.sense.reading import parse_imperfections
 from softarm.sim import ARCHS
+from softarm.corpus.build import DEFAULT_ARMS, DEFAULT_DURATION
 from softarm.suite.families import SUITE_VERSION, level_seeds
 from softarm_cli.progress import LazyProgress
 
@@ -125,7 +126,7 @@ def train_with_progress(recordings: list[Path], cfg: "Config", out_file: Optiona
 
 @app.command()
 def train(
-    recordings: Annotated[list[Path], typer.Argument(metavar="RECORDING...", help="Recordings (.mcap) to learn from; each is split by time.")],
+    recordings: Annotated[list[Path], typer.Argument(metavar="RECORDING...", help="Recordings (.mcap) to learn from, or folders of them (a corpus); each is split by time.")],
     out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="Checkpoint file [default: recordings/<first recording>.pt]; metrics go beside it as .metrics.json.")] = None,
     config: Annotated[Optional[Path], typer.Option("--config", "-c", help="TOML config; its [train] section sets the defaults below.")] = None,
     epochs_ae: Annotated[Optional[int], typer.Option(help=f"Autoencoder epochs [default: {D.train.epochs_ae}].")] = None,
@@ -194,6 +195,34 @@ def replay(
         written = ", ".join(str(p) for p in (rrd, mcap, png) if p is not None)
         out.print(f"replayed {result.metrics['frames']} frames in {result.wall_seconds:.1f} s "
                   f"({result.real_time_factor:.0f}x real time)" + (f"; wrote {written}" if written else ""), markup=False)
+
+
+@app.command()
+def corpus(
+    folder: Annotated[Path, typer.Argument(metavar="DIR", help="Folder for the corpus's recordings and corpus.json.")],
+    preset: Annotated[str, typer.Option(help="general: every kind of motion; paper: the paper's drive at many time offsets.")] = "general",
+    arms: Annotated[int, typer.Option(help="Arms in all, spread over the preset's groups.")] = DEFAULT_ARMS,
+    duration: Annotated[float, typer.Option(help="Seconds simulated per arm.")] = DEFAULT_DURATION,
+    arch: Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")] = "cpu",
+    force: Annotated[bool, typer.Option("--force", help="Write over a corpus already in DIR.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no summary.")] = False,
+) -> None:
+    """Simulate a training corpus: many arms and kinds of motion, from seeds below the held-out suite's.
+
+    \b
+    Example: softarm corpus recordings/corpus && softarm train recordings/corpus --out general.pt
+    """
+    from softarm.corpus.build import write_corpus
+
+    with LazyProgress(err, "corpus", 1, "arm-frames", quiet=quiet) as bar:
+        manifest = run_or_exit(lambda: write_corpus(folder, preset=preset, arms=arms, duration=duration, force=force,
+                                                    arch=arch, progress=bar.update))
+    if manifest is None:
+        err.print(f"interrupted: {folder} holds part of the corpus and no corpus.json; run the command again",
+                  markup=False)
+        raise typer.Exit(130)
+    if not quiet:
+        out.print(f"wrote a {preset} corpus of {arms} arm(s) x {duration:g} s to {folder}", markup=False)
 
 
 @app.command()

@@ -33,6 +33,7 @@ _API = {
     "read_recording": "softarm.record.reader",
     "train": "softarm.learn.run",
     "replay": "softarm.imagine.run",
+    "write_corpus": "softarm.corpus.build",
     "write_suite": "softarm.suite.build",
     "evaluate": "softarm.suite.run",
 }

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any, Callable, Optional, Sequence, Union
 
 from softarm.config import Config, load_config
-from softarm.errors import CheckpointError, OutputError
+from softarm.errors import CheckpointError, OutputError, RecordingError
 from softarm.files import check_outputs, write_json
 from softarm.interrupt import stop_on_signal
 from softarm.learn.observer import Progress, open_observer
@@ -27,8 +27,19 @@ class TrainResult:
     wall_seconds: float
 
 
+def expand_folders(recordings: Sequence[PathLike]) -> list[Path]:
+    """A folder (a corpus) stands for every recording in it, sorted by name."""
+    out: list[Path] = []
+    for path in map(Path, recordings):
+        found = sorted(p for p in path.glob("*.mcap") if p.is_file()) if path.is_dir() else [path]
+        if not found:
+            raise RecordingError(f"{path} holds no recordings (.mcap files)")
+        out.extend(found)
+    return out
+
+
 def default_checkpoint(recordings: Sequence[PathLike]) -> Path:
-    """recordings/<first recording's stem>.pt"""
+    """recordings/<first recording's (or folder's) stem>.pt"""
     return DEFAULT_FOLDER / f"{Path(recordings[0]).stem}.pt"
 
 
@@ -59,6 +70,7 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     """
     start = time.perf_counter()
     out = Path(out) if out is not None else default_checkpoint(recordings)
+    recordings = expand_folders(recordings)
     check_train_outputs(out, rrd, resume, force)
     from softarm.learn.evaluate import evaluate, fit_baselines  # torch loads here, not when softarm is imported
     from softarm.learn.train import fit

@@ -1,0 +1,74 @@
+"""What a corpus holds: groups of arms, each one motion family with its own seeds.
+
+`paper` is the paper's drive at as many time offsets as arms. `general` spreads the arms over every kind
+of motion the arm can live through: the paper's product at several rhythms and amplitudes,
+band-limited multisines from quasi-static to both first modes (1.48 and 3.99 Hz), and single sines
+in five bands whose amplitudes keep the swing inside the camera's view (small at resonance). The
+ranges cover the suite's levels without being them, and every seed stays below the suite's.
+"""
+
+from dataclasses import dataclass
+from typing import Any
+
+from softarm.arm.drive import HELD_OUT_SEED_BASE
+
+SEED_BLOCK = 10_000   # seeds per group: group g uses g * SEED_BLOCK + arm
+SUM = "excitation.sum_of_sines."
+
+
+@dataclass(frozen=True)
+class Group:
+    name: str
+    overrides: dict[str, Any]
+    share: float   # of the corpus's arms
+
+
+def _multisine(band: list[float], rms: float, components: int = 8) -> dict[str, Any]:
+    return {"excitation.kind": "sum_of_sines", SUM + "band": band, SUM + "rms": rms, SUM + "components": components,
+            "excitation.amplitude_jitter": 0.3}
+
+
+def _sine(band: list[float], rms: float) -> dict[str, Any]:
+    return {**_multisine(band, rms, 1), "excitation.amplitude_jitter": 0.5}
+
+
+def _product(scale: float, amplitude: float) -> dict[str, Any]:
+    return {"excitation.frequencies": [round(f * scale, 4) for f in (2.11, 3.73, 4.33)],
+            "excitation.amplitude": amplitude, "excitation.amplitude_jitter": 0.3}
+
+
+PRESETS: dict[str, tuple[Group, ...]] = {
+    "paper": (Group("paper", {}, 1.0),),
+    "general": (
+        Group("product_x0.7", _product(0.7, 0.004), 0.05), Group("product_x0.85", _product(0.85, 0.004), 0.05),
+        Group("product_x1", _product(1.0, 0.003), 0.08), Group("product_x1.2", _product(1.2, 0.004), 0.05),
+        Group("product_x1.4", _product(1.4, 0.004), 0.05),
+        Group("multisine_0.1-1Hz", _multisine([0.1, 1.0], 0.003), 0.10),
+        Group("multisine_0.5-2Hz", _multisine([0.5, 2.0], 0.0012), 0.10),
+        Group("multisine_1-3Hz", _multisine([1.0, 3.0], 0.0015), 0.10),
+        Group("multisine_2-6Hz", _multisine([2.0, 6.0], 0.002, 12), 0.08),
+        Group("multisine_0.1-6Hz", _multisine([0.1, 6.0], 0.0015, 16), 0.12),
+        Group("sine_0.1-0.8Hz", _sine([0.1, 0.8], 0.008), 0.05), Group("sine_0.8-1.3Hz", _sine([0.8, 1.3], 0.002), 0.04),
+        Group("sine_1.3-1.7Hz", _sine([1.3, 1.7], 0.0003), 0.04), Group("sine_1.7-3Hz", _sine([1.7, 3.0], 0.0015), 0.04),
+        Group("sine_3-6Hz", _sine([3.0, 6.0], 0.0025), 0.05),
+    ),
+}
+
+
+def arms_per_group(groups: tuple[Group, ...], arms: int) -> list[int]:
+    """Arms of each group: the shares of `arms`, every group at least one, the total exactly `arms` or the
+    number of groups, whichever is larger."""
+    counts = [max(1, int(round(g.share * arms))) for g in groups]
+    while sum(counts) > max(arms, len(groups)):
+        counts[counts.index(max(counts))] -= 1
+    while sum(counts) < arms:
+        counts[counts.index(min(counts))] += 1
+    return counts
+
+
+def seeds_of(group_index: int, arms: int) -> int:
+    """The first seed of a group (the paper preset starts at 0: its first arm is the paper's run)."""
+    first = group_index * SEED_BLOCK
+    if first + arms > HELD_OUT_SEED_BASE or arms > SEED_BLOCK:
+        raise ValueError(f"group {group_index} with {arms} arms leaves the corpus's seed range")
+    return first
