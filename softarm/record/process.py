@@ -51,7 +51,11 @@ class RecorderProcess:
         self._busy: list[set[int]] = [set() for _ in range(IN_FLIGHT)]
         self._finished: set[int] = set()  # writers that closed or discarded their files and exited
         self._next = 0
-        self._await(lambda k, message: message[0] == "ready", range(count))
+        try:
+            self._await(lambda k, message: message[0] == "ready", range(count))
+        except BaseException:  # a writer could not even open its files: the run leaves nothing
+            self.discard()
+            raise
 
     def write(self, images: np.ndarray, readings: np.ndarray, positions: np.ndarray, displacements: np.ndarray) -> None:
         """Share one block of every arm with the writers (copied into the next free slot)."""

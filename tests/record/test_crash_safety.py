@@ -133,3 +133,19 @@ def test_a_run_bigger_than_the_free_disk_is_refused_before_any_work(tmp_path, mo
     with pytest.raises(ConfigError, match=r"would write about .* free: at most .* s of 1 arm"):
         simulate(load_config(overrides={"run.duration": 1000.0}), tmp_path / "out" / "x.mcap")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_writer_that_cannot_open_its_file_leaves_no_file_of_the_run(tmp_path, monkeypatch):
+    from softarm.record import writer
+
+    real = writer.RecordingWriter.__init__
+
+    def refuse_arm_1(self, path, *args) -> None:
+        if path.name.endswith("arm1.mcap"):
+            raise OSError(errno.EACCES, os.strerror(errno.EACCES), str(path))
+        real(self, path, *args)
+
+    monkeypatch.setattr(writer.RecordingWriter, "__init__", refuse_arm_1)
+    with pytest.raises(WriterFailed, match="Permission denied"):
+        simulate(load_config(overrides={"run.duration": 1.0, "run.arms": 3}), tmp_path / "x.mcap")
+    assert files_under(tmp_path) == []
