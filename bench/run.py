@@ -29,7 +29,8 @@ from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
-from softarm.sim.run import MAX_BLOCK_FRAMES, simulate
+from softarm.sim.budget import MAX_BLOCK_FRAMES
+from softarm.sim.run import simulate
 from softarm.sim.runtime import init_taichi
 
 from c_reference import CReference, find_compiler  # bench/c_reference.py, next to this script

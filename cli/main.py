@@ -1,5 +1,6 @@
 """The `softarm` command line: parse options, call the softarm library, print. No logic of its own."""
 
+import json
 import sys
 import warnings
 from pathlib import Path
@@ -14,7 +15,7 @@ from softarm.errors import SoftarmError
 from softarm.sense.reading import parse_imperfections
 from softarm.sim import ARCHS
 from softarm.corpus.build import DEFAULT_ARMS, DEFAULT_DURATION
-from softarm.suite.families import SUITE_VERSION, level_seeds
+from softarm.suite.families import SUITE_VERSION
 from softarm_cli.progress import LazyProgress
 
 # Plain help (no rich markup): rich would read every "[default: ...]" as a markup tag and drop it,
@@ -115,11 +116,9 @@ def train_with_progress(recordings: list[Path], cfg: "Config", out_file: Optiona
     """softarm.train with a progress bar over both networks' epochs."""
     from softarm.learn.run import train as run_training
 
-    total = cfg.train.epochs_ae + cfg.train.epochs_lstm
-    with LazyProgress(err, "training", total, "epochs", quiet=options.pop("quiet", False)) as bar:
-        def progress(phase: str, done: int, _: int, losses: dict[str, float]) -> None:
-            bar.update(done + (0 if phase == "ae" else cfg.train.epochs_ae),
-                       **{k: f"{k} {v:.4f}" for k, v in losses.items()})
+    with LazyProgress(err, "training", 1, "steps", quiet=options.pop("quiet", False)) as bar:
+        def progress(done: int, total: int, losses: dict[str, float]) -> None:
+            bar.update(done, total=total, **{k: f"{k} {v:.4f}" for k, v in losses.items()})
 
         return run_or_exit(lambda: run_training(recordings, cfg, out_file, progress=progress, **options))
 
@@ -222,7 +221,8 @@ def corpus(
                   markup=False)
         raise typer.Exit(130)
     if not quiet:
-        out.print(f"wrote a {preset} corpus of {arms} arm(s) x {duration:g} s to {folder}", markup=False)
+        written = json.loads(manifest.read_text())["arms"]
+        out.print(f"wrote a {preset} corpus of {written} arm(s) x {duration:g} s to {folder}", markup=False)
 
 
 @app.command()
@@ -239,9 +239,8 @@ def suite(
     """
     from softarm.suite.build import write_suite
 
-    with LazyProgress(err, "suite", len(level_seeds()), "levels", quiet=quiet) as bar:
-        manifest = run_or_exit(lambda: write_suite(folder, force=force, arch=arch,
-                                                   progress=lambda done, _: bar.update(done)))
+    with LazyProgress(err, "suite", 1, "arm-frames", quiet=quiet) as bar:
+        manifest = run_or_exit(lambda: write_suite(folder, force=force, arch=arch, progress=bar.update))
     if manifest is None:
         err.print(f"interrupted: {folder} holds part of the suite and no suite.json; run the command again",
                   markup=False)

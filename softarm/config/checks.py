@@ -49,6 +49,8 @@ def check_ranges(c: Config) -> None:
              t.test_fraction, "must be > 0 and leave room for the imagination segment")
     for key in ("latent", "history", "epochs_ae", "epochs_lstm", "batch_ae", "batch_lstm", "lstm_hidden"):
         _require(getattr(t, key) >= 1, f"train.{key}", getattr(t, key), "must be >= 1")
+    for key in ("max_steps_ae", "max_steps_lstm"):
+        _require(getattr(t, key) >= 0, f"train.{key}", getattr(t, key), "must be >= 0 (0: no cap)")
     for key in ("lr_ae", "lr_lstm"):
         _require(getattr(t, key) > 0, f"train.{key}", getattr(t, key), "must be > 0")
     _require(0 <= t.min_feature_std < 1, "train.min_feature_std", t.min_feature_std, "must be in [0, 1)")

@@ -99,6 +99,8 @@ class TrainConfig:
     include_current: bool
     epochs_ae: int
     epochs_lstm: int
+    max_steps_ae: int
+    max_steps_lstm: int
     batch_ae: int
     batch_lstm: int
     lr_ae: float

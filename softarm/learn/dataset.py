@@ -5,7 +5,7 @@ Each recording is split on its own: the first `train_fraction` of its frames tra
 Stretch windows never straddle a split, so no test target is predicted from training samples.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional, Sequence, Union
 
@@ -38,6 +38,8 @@ class RunData:
 @dataclass(frozen=True)
 class Dataset:
     sequences: list[RunData]
+    cache: Optional[Path] = None   # where frames live on disk (memory-mapped), if anywhere
+    _segments: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def image_shape(self) -> tuple[int, int]:
@@ -48,9 +50,15 @@ class Dataset:
         return self.sequences[0].stretch.shape[1]
 
     def frames(self, segment: str) -> np.ndarray:
-        """(M, H, W) uint8 frames of a segment, all recordings in order (a view for one recording)."""
+        """(M, H, W) uint8 frames of a segment, all recordings in order: a view for one recording, else one
+        array made once (on disk, memory-mapped, when the dataset has a cache)."""
         parts = [s.frames[slice(*s.segment(segment))] for s in self.sequences]
-        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+        if len(parts) == 1:
+            return parts[0]
+        if segment not in self._segments:
+            self._segments[segment] = (np.concatenate(parts) if self.cache is None
+                                       else on_disk(self.cache / f"{segment}.u8", parts))
+        return self._segments[segment]
 
     def windows(self, segment: str, history: int, include_current: bool) -> tuple[np.ndarray, np.ndarray]:
         """Stretch windows (M, history, P) of a segment, all recordings, and the (recording, frame) each predicts (M, 2)."""
@@ -97,9 +105,11 @@ def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
     return round(n_frames * train.train_fraction), round(n_frames * (train.train_fraction + train.test_fraction))
 
 
-def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing: SensingConfig) -> Dataset:
+def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing: SensingConfig,
+                 cache: Optional[Path] = None) -> Dataset:
     """Read recordings (all of one image shape and sensor count), each as `sensing` reads its sensors,
-    and split each by time."""
+    and split each by time. With a `cache` folder the frames go to disk and are memory-mapped, so the
+    memory a corpus needs does not grow with its size."""
     if not paths:
         raise RecordingError("give at least one recording")
     sequences = []
@@ -108,7 +118,8 @@ def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing:
         if int(rec.model.get("seed", 0)) >= HELD_OUT_SEED_BASE:
             raise RecordingError(f"{path.name} was made from seed {rec.model['seed']}, one of the held-out suite's "
                                  f"(>= {HELD_OUT_SEED_BASE}): train on seeds below it")
-        seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=rec.frames,
+        frames = rec.frames if cache is None else on_disk(cache / f"{len(sequences)}.u8", [rec.frames])
+        seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=frames,
                       stretch=sensed_stretch(rec, sensing).astype(np.float32), times=rec.times,
                       bounds=split_bounds(len(rec.times), train))
         if sequences:
@@ -117,7 +128,20 @@ def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing:
                        first.stretch.shape[1], first.name)
         check_segments(seq, train)
         sequences.append(seq)
-    return Dataset(sequences)
+    return Dataset(sequences, cache)
+
+
+def on_disk(path: Path, parts: Sequence[np.ndarray]) -> np.ndarray:
+    """The parts one after another in a file, memory-mapped copy-on-write (writable views, a read-only file)."""
+    shape = (sum(len(p) for p in parts), *parts[0].shape[1:])
+    array = np.lib.format.open_memmap(path, mode="w+", dtype=parts[0].dtype, shape=shape)
+    offset = 0
+    for part in parts:
+        array[offset:offset + len(part)] = part
+        offset += len(part)
+    array.flush()
+    del array
+    return np.load(path, mmap_mode="c")
 
 
 def check_segments(seq: RunData, train: TrainConfig) -> None:

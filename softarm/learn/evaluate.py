@@ -13,6 +13,12 @@ from softarm.learn.metrics import image_scores
 from softarm.learn.train_state import TrainState
 
 AE_BATCH = 512
+MAX_SCORED = 10_000  # held-out frames scored per segment: a corpus's metrics cost what one long recording's do
+
+
+def evenly(count: int, most: int) -> np.ndarray:
+    """Indices of at most `most` of `count` items, evenly spaced (all of them when there are few)."""
+    return np.arange(count) if count <= most else np.linspace(0, count - 1, most).round().astype(int)
 
 
 def imaginer_of(state: TrainState) -> Imaginer:
@@ -48,7 +54,10 @@ def evaluate(state: TrainState, baselines: Baselines) -> dict[str, Any]:
     ppm = state.config.camera.pixels_per_metre
     imaginer = imaginer_of(state)
     test_frames = data.frames("test")
+    test_frames = test_frames[evenly(len(test_frames), MAX_SCORED)]
     windows, targets = data.windows("imagine", t.history, t.include_current)
+    keep = evenly(len(targets), MAX_SCORED)
+    windows, targets = windows[keep], targets[keep]
     truth = data.target_frames(targets)
     true_latent = scale.forward(codes.of(targets))
     predicted = imaginer.latents(windows)
@@ -65,7 +74,7 @@ def evaluate(state: TrainState, baselines: Baselines) -> dict[str, Any]:
             "ridge": image_scores(imaginer.decode(ridge_latent), truth, ppm),
             "mean_frame": image_scores(np.broadcast_to(baselines.mean_frame, truth.shape), truth, ppm),
             "ae_ceiling": image_scores(imaginer.decode(true_latent), truth, ppm)},
-        "counts": {"train_frames": int(len(data.frames("train"))), "test_frames": int(len(test_frames)),
+        "counts": {"train_frames": data.count("train"), "test_frames": int(len(test_frames)),
                    "imagination_predictions": int(len(targets)), "kept_latent_features": scale.kept,
                    "latent_features": int(t.latent)},
         "recordings": data.fingerprints(),

@@ -10,7 +10,7 @@ from typing import Callable, Iterator, Optional, Protocol, Union
 
 import numpy as np
 
-Progress = Callable[[str, int, int, dict[str, float]], None]  # (phase, epochs done, epochs in all, losses)
+Progress = Callable[[int, int, dict[str, float]], None]  # (optimisation steps done, steps in all, latest losses)
 
 
 class TrainingObserver(Protocol):

@@ -3,6 +3,8 @@
 Light to import: torch loads when `train()` first runs.
 """
 
+import json
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,14 +30,23 @@ class TrainResult:
 
 
 def expand_folders(recordings: Sequence[PathLike]) -> list[Path]:
-    """A folder (a corpus) stands for every recording in it, sorted by name."""
+    """A folder stands for the recordings its corpus.json lists (a corpus), or else every recording in it,
+    sorted by name."""
     out: list[Path] = []
     for path in map(Path, recordings):
-        found = sorted(p for p in path.glob("*.mcap") if p.is_file()) if path.is_dir() else [path]
+        found = folder_recordings(path) if path.is_dir() else [path]
         if not found:
             raise RecordingError(f"{path} holds no recordings (.mcap files)")
         out.extend(found)
     return out
+
+
+def folder_recordings(folder: Path) -> list[Path]:
+    manifest = folder / "corpus.json"
+    if manifest.is_file():
+        groups = json.loads(manifest.read_text()).get("groups", {})
+        return sorted(folder / name for group in groups.values() for name in group["recordings"])
+    return sorted(p for p in folder.glob("*.mcap") if p.is_file())
 
 
 def default_checkpoint(recordings: Sequence[PathLike]) -> Path:
@@ -76,13 +87,15 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     from softarm.learn.train import fit
     from softarm.learn.train_state import start_state
 
-    state = start_state(recordings, config if config is not None else load_config(), out, resume)
-    with open_observer(rrd, spawn) as observer, stop_on_signal() as caught:
-        complete = fit(state, out, observer, progress or (lambda *_: None), lambda: bool(caught) or stop())
-    if not complete:
-        return TrainResult(out, None, None, False, time.perf_counter() - start)
-    baselines = fit_baselines(state)
-    metrics = evaluate(state, baselines)
-    state.save(out, metrics, baselines)
+    with tempfile.TemporaryDirectory(prefix=f".{out.stem}-frames-", dir=out.parent) as cache:
+        state = start_state(recordings, config if config is not None else load_config(), out, resume,
+                            Path(cache) if len(recordings) > 1 else None)
+        with open_observer(rrd, spawn) as observer, stop_on_signal() as caught:
+            complete = fit(state, out, observer, progress or (lambda *_: None), lambda: bool(caught) or stop())
+        if not complete:
+            return TrainResult(out, None, None, False, time.perf_counter() - start)
+        baselines = fit_baselines(state)
+        metrics = evaluate(state, baselines)
+        state.save(out, metrics, baselines)
     metrics_file = write_json(metrics_path_for(out), metrics)
     return TrainResult(out, metrics_file, metrics, True, time.perf_counter() - start)

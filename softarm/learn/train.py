@@ -8,6 +8,7 @@ run ends (on the CPU).
 """
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Optional
 
@@ -25,9 +26,35 @@ CLIP_FRAMES = 100  # the held-out clip shown each epoch: the first second of the
 
 
 
+@dataclass(frozen=True)
+class Schedule:
+    """One phase's optimisation steps: epochs of shuffled batches, cut at `total` steps."""
+    steps_per_epoch: int
+    total: int
+
+    @property
+    def epochs(self) -> int:
+        return math.ceil(self.total / self.steps_per_epoch)
+
+
+def schedules(state: TrainState) -> tuple[Schedule, Schedule]:
+    """The autoencoder's and the LSTM's: `epochs_*` epochs, at most `max_steps_*` steps (0: no cap), so that
+    a corpus of any size trains in bounded time while one recording trains as many epochs as asked."""
+    t, data = state.config.train, state.data
+    out = []
+    for items, batch, epochs, cap in ((data.count("train"), t.batch_ae, t.epochs_ae, t.max_steps_ae),
+                                      (data.count("train", t.history, t.include_current), t.batch_lstm,
+                                       t.epochs_lstm, t.max_steps_lstm)):
+        per_epoch = math.ceil(items / batch)
+        out.append(Schedule(per_epoch, min(epochs * per_epoch, cap) if cap > 0 else epochs * per_epoch))
+    return out[0], out[1]
+
+
 def fit(state: TrainState, out: Path, observer: TrainingObserver, progress: Progress, stop: Callable[[], bool]) -> bool:
     """Both phases from wherever `state` stands; False when `stop()` interrupted it."""
-    t, data = state.config.train, state.data
+    data = state.data
+    ae, lstm = schedules(state)
+    report = lambda losses: progress(training_step(state), ae.total + lstm.total, losses)  # noqa: E731
     if state.phase == "ae":
         frames = torch.from_numpy(data.frames("train"))  # uint8: a batch becomes float only when used
         test = data.frames("test")
@@ -36,12 +63,12 @@ def fit(state: TrainState, out: Path, observer: TrainingObserver, progress: Prog
             x = frames[index].float()
             return F.binary_cross_entropy_with_logits(state.autoencoder(x), x)
 
-        while state.epoch < t.epochs_ae:
-            loss = run_epoch(state, state.autoencoder, state.ae_optimizer, len(frames), t.batch_ae, t.epochs_ae,
-                             t.lr_ae, ae_loss, stop)
+        while state.epoch < ae.epochs:
+            loss = run_epoch(state, state.autoencoder, state.ae_optimizer, len(frames), state.config.train.batch_ae,
+                             ae, state.config.train.lr_ae, ae_loss, stop)
             if loss is None:
                 return False
-            end_epoch(state, out, observer, progress, loss, ae_test_loss(state, test))
+            end_epoch(state, out, observer, report, loss, ae_test_loss(state, test))
             show_clip(state, observer, imagination=False)
         state.phase, state.epoch = "lstm", 0
         state.make_lstm(*fit_scalers(state, state.codes()))
@@ -49,44 +76,48 @@ def fit(state: TrainState, out: Path, observer: TrainingObserver, progress: Prog
     if state.phase == "lstm":
         x, y = lstm_pairs(state, state.codes(), "train")
         x_val, y_val = lstm_pairs(state, state.codes(), "test")
-        while state.epoch < t.epochs_lstm:
-            loss = run_epoch(state, state.lstm, state.lstm_optimizer, len(x), t.batch_lstm, t.epochs_lstm, t.lr_lstm,
-                             lambda index: F.mse_loss(state.lstm(x[index]), y[index]), stop)
+        while state.epoch < lstm.epochs:
+            loss = run_epoch(state, state.lstm, state.lstm_optimizer, len(x), state.config.train.batch_lstm, lstm,
+                             state.config.train.lr_lstm, lambda index: F.mse_loss(state.lstm(x[index]), y[index]), stop)
             if loss is None:
                 return False
             state.lstm.eval()
             with torch.no_grad():
                 val = F.mse_loss(state.lstm(x_val), y_val).item()
-            end_epoch(state, out, observer, progress, loss, val)
-            if state.epoch % 10 == 0 or state.epoch == t.epochs_lstm:
+            end_epoch(state, out, observer, report, loss, val)
+            if state.epoch % 10 == 0 or state.epoch == lstm.epochs:
                 show_clip(state, observer, imagination=True)
         state.phase = "done"
     return True
 
 
 def run_epoch(state: TrainState, model: torch.nn.Module, optimizer: torch.optim.Optimizer, items: int, batch: int,
-              epochs: int, base_lr: float, batch_loss: Callable[[torch.Tensor], torch.Tensor],
+              schedule: Schedule, base_lr: float, batch_loss: Callable[[torch.Tensor], torch.Tensor],
               stop: Callable[[], bool]) -> Optional[float]:
-    """One epoch of either network: its mean training loss, or None when `stop()` interrupted it."""
-    steps_per_epoch = math.ceil(items / batch)
+    """One epoch of either network (cut where the schedule ends): its mean training loss, or None when
+    `stop()` interrupted it."""
     model.train()
-    order, total = epoch_order(items, state.config.train.seed, 0 if state.phase == "ae" else 1, state.epoch), 0.0
+    order, total, seen = epoch_order(items, state.config.train.seed, 0 if state.phase == "ae" else 1, state.epoch), 0.0, 0
     for i, first in enumerate(range(0, items, batch)):
+        step = state.epoch * schedule.steps_per_epoch + i
+        if step >= schedule.total:
+            break
         for group in optimizer.param_groups:
-            group["lr"] = cosine_lr(base_lr, state.epoch * steps_per_epoch + i, epochs * steps_per_epoch)
+            group["lr"] = cosine_lr(base_lr, step, schedule.total)
         index = order[first:first + batch]
         loss = batch_loss(index)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         optimizer.step()
         total += loss.item() * len(index)
+        seen += len(index)
         if stop():
             return None
-    return total / items
+    return total / seen
 
 
-def end_epoch(state: TrainState, out: Path, observer: TrainingObserver, progress: Progress, train_loss: float,
-              held_out: float) -> None:
+def end_epoch(state: TrainState, out: Path, observer: TrainingObserver, report: Callable[[dict[str, float]], None],
+              train_loss: float, held_out: float) -> None:
     """Count the epoch, keep its losses, save the checkpoint, report to the view and the progress bar."""
     lstm = state.phase != "ae"
     names = ("lstm_train", "lstm_val") if lstm else ("ae_train", "ae_test")
@@ -95,17 +126,14 @@ def end_epoch(state: TrainState, out: Path, observer: TrainingObserver, progress
         state.losses[name].append(value)
         observer.loss(name, training_step(state), value)
     state.save(out)
-    t = state.config.train
-    progress("lstm" if lstm else "ae", state.epoch, t.epochs_lstm if lstm else t.epochs_ae,
-             dict(zip(names, (train_loss, held_out))))
+    report(dict(zip(names, (train_loss, held_out))))
 
 
 def training_step(state: TrainState) -> int:
     """Optimisation steps taken so far over both networks: one axis for every loss curve of the live view."""
-    t, data = state.config.train, state.data
-    ae_steps = math.ceil(data.count("train") / t.batch_ae)
-    lstm_steps = math.ceil(data.count("train", t.history, t.include_current) / t.batch_lstm)
-    return len(state.losses["ae_train"]) * ae_steps + len(state.losses["lstm_train"]) * lstm_steps
+    ae, lstm = schedules(state)
+    return (min(len(state.losses["ae_train"]) * ae.steps_per_epoch, ae.total)
+            + min(len(state.losses["lstm_train"]) * lstm.steps_per_epoch, lstm.total))
 
 
 @torch.no_grad()

@@ -94,13 +94,15 @@ class TrainState:
         self.lstm_optimizer.load_state_dict(saved["optimizer"])
 
 
-def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, resume: bool) -> TrainState:
-    """A fresh run on `paths`, or with resume the run saved in `out` (whose settings win, with a warning)."""
+def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, resume: bool,
+                cache: Optional[Path] = None) -> TrainState:
+    """A fresh run on `paths`, or with resume the run saved in `out` (whose settings win, with a warning).
+    With `cache`, frames are memory-mapped from files there."""
     saved = load_checkpoint(out) if resume else None
     if saved is not None:
         config = _saved_config(saved, config)
     t = config.train
-    data = load_dataset(paths, t, config.sensing)
+    data = load_dataset(paths, t, config.sensing, cache)
     torch.manual_seed(t.seed)
     autoencoder = Autoencoder(*data.image_shape, t.latent)
     state = TrainState(config, data, autoencoder, torch.optim.Adam(autoencoder.parameters(), lr=t.lr_ae))

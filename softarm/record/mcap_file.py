@@ -41,6 +41,9 @@ class McapFile:
         """One message per frame on each topic, frame by frame in the order of `messages`; log time = publish
         time = the frame's stamp (ns)."""
         channels = [self.channels[topic] for topic in messages]
+        if any(len(m) != len(stamps) for m in messages.values()):
+            raise ValueError(f"one message per frame on every topic: {len(stamps)} frames, "
+                             f"{[len(m) for m in messages.values()]} messages")
         self.writer.add_messages(channels * len(stamps), np.repeat(stamps, len(channels)).tolist(),
                                  [data for frame in zip(*messages.values()) for data in frame])
 

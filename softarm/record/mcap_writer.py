@@ -1,12 +1,13 @@
 """An MCAP writer that takes messages a block at a time: the recorder's hot path.
 
 The `mcap` package's Writer builds one record object per message, which costs more than encoding the
-message itself. This writer packs every message header of a block with one struct format, keeps the
-chunk as a list of byte strings, and compresses each ~1 MB chunk with a reused zstd context. The
-records around the data (header, schemas, channels, metadata, chunk and message indexes, statistics,
-summary offsets, footer) are written with the `mcap` package's own record classes, so the file follows
-the MCAP specification exactly as that library does: zstd chunks, a message index after each chunk,
-and a summary with every index. Nothing depends on the clock: the same messages give the same bytes.
+message itself. This writer packs message headers with one struct format and message indexes with
+NumPy, keeps the chunk as a list of byte strings, and compresses each ~1 MB chunk with a reused zstd
+context. The other records (header, schemas, channels, metadata, chunks, chunk and metadata indexes,
+statistics, summary offsets, footer) are written with the `mcap` package's record classes, in the
+layout that library writes: zstd chunks, a message index after each chunk, a summary with every
+index (schemas and channels are written before the chunks, not inside them). Messages must come in
+log-time order. Nothing depends on the clock: the same messages give the same bytes.
 """
 
 import struct
@@ -74,6 +75,9 @@ class McapWriter:
         """Messages in log-time order; log time = publish time, in ns. A chunk is written whenever it fills."""
         pack = MESSAGE_HEADER.pack
         for channel, time, data in zip(channels, times, datas):
+            if time < self._last_time:
+                raise ValueError(f"messages must come in log-time order: {time} ns after {self._last_time} ns")
+            self._last_time = time
             if self._chunk_start is None:
                 self._chunk_start = time
             self._index[channel].append((time, self._chunk_bytes))
@@ -84,9 +88,8 @@ class McapWriter:
             self._counts[channel] += 1
             if self._chunk_bytes > self._chunk_size:
                 self.flush_chunk()
-        if len(datas):
-            self._first_time = times[0] if self._first_time is None else self._first_time
-            self._last_time = times[-1]
+        if len(datas) and self._first_time is None:
+            self._first_time = times[0]
 
     def flush_chunk(self) -> None:
         """Compress and write the chunk in progress with its message indexes (nothing if it is empty)."""

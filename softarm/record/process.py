@@ -3,9 +3,11 @@
 Encoding and writing cost about as much as the physics, so they run in other processes, one per core
 (each owns some arms), while the simulation steps the next block. Blocks travel through two shared
 slots, so a slow disk slows the simulation instead of filling memory and nothing is pickled. The parent
-never blocks without a timeout on a writer: a writer that dies (killed, out of memory) or fails (a full
-disk) is noticed within a second, the others close their files with every frame, and `WriterFailed`
-says which file holds how many frames.
+never waits on a writer without also watching whether it lives: a writer that dies (killed, out of
+memory) or fails (a full disk) is noticed at the parent's next exchange with the writers (every block,
+and within a second while it waits on them), the others close their files with every frame, and
+`WriterFailed` says which file holds how many frames. A writer alive but stuck (a hung disk) is waited
+for.
 """
 
 import multiprocessing
@@ -26,6 +28,11 @@ IN_FLIGHT = 2          # slots: one filled by the simulation while the writers e
 GIVE_UP_SECONDS = 30   # a writer that answers nothing for this long while it closes is killed
 
 
+def writer_processes(arms: int) -> int:
+    """One writer per core this process may use (its affinity, not the host's core count), at most one per arm."""
+    return max(1, min(arms, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1))
+
+
 class WriterFailed(RecordingError):
     """A writer process died or failed; the files were kept (closed, or as recoverable .part files)."""
 
@@ -37,23 +44,23 @@ class RecorderProcess:
         context = multiprocessing.get_context("fork")  # no re-import: a writer starts in milliseconds
         self.paths = [Path(path) for path, _, _ in specs]
         self.slots = [Slot(shape) for _ in range(IN_FLIGHT)]
-        count = max(1, min(len(specs), processes or os.cpu_count() or 1))
+        count = max(1, min(len(specs), processes or writer_processes(len(specs))))
         self._conns: list[Connection] = []
         self._processes: list[multiprocessing.process.BaseProcess] = []
-        for k in range(count):
-            parent_end, child_end = context.Pipe()
-            process = context.Process(target=serve, args=(list(range(k, len(specs), count)), specs, self.slots,
-                                                          child_end, os.getpid()), daemon=True)
-            process.start()
-            child_end.close()
-            self._conns.append(parent_end)
-            self._processes.append(process)
         self._busy: list[set[int]] = [set() for _ in range(IN_FLIGHT)]
         self._finished: set[int] = set()  # writers that closed or discarded their files and exited
         self._next = 0
         try:
+            for k in range(count):
+                parent_end, child_end = context.Pipe()
+                process = context.Process(target=serve, args=(list(range(k, len(specs), count)), specs, self.slots,
+                                                              child_end, os.getpid()), daemon=True)
+                process.start()
+                child_end.close()
+                self._conns.append(parent_end)
+                self._processes.append(process)
             self._await(lambda k, message: message[0] == "ready", range(count))
-        except BaseException:  # a writer could not even open its files: the run leaves nothing
+        except BaseException:  # a fork failed, Ctrl-C came, or a writer could not open its files: nothing is left
             self.discard()
             raise
 
@@ -90,18 +97,19 @@ class RecorderProcess:
 
     def keep(self) -> None:
         """After a failure: the living writers close their files with what they hold (complete = "false")."""
-        living = [k for k, process in enumerate(self._processes) if process.is_alive()]
+        living = [k for k, process in enumerate(self._processes) if process.is_alive() and k not in self._finished]
         for k in living:
             try:
                 self._conns[k].send(("close", False))
             except OSError:
                 pass
-        for k in living:
-            if self._conns[k].poll(GIVE_UP_SECONDS):
+        for k in living:  # until each says closed (or failed, or goes), past any pending "wrote"
+            while self._conns[k].poll(GIVE_UP_SECONDS):
                 try:
-                    self._conns[k].recv()
+                    if self._conns[k].recv()[0] in ("closed", "failed"):
+                        break
                 except (EOFError, OSError):
-                    pass
+                    break
         self._join()
 
     def _drain(self, slot: int) -> None:
@@ -152,15 +160,32 @@ class RecorderProcess:
     def _fail(self, k: int, reason: str | None) -> None:
         process = self._processes[k]
         process.join(timeout=1)
+        reason = reason or self._last_word(k)
         if reason is None:
             code = process.exitcode
             reason = (f"killed by {signal.Signals(-code).name}" if code is not None and code < 0
                       else f"exited with code {code}" if code is not None else "stopped answering")
         raise WriterFailed(f"writer process {k + 1} of {len(self._processes)} failed ({reason})")
 
+    def _last_word(self, k: int) -> str | None:
+        """The reason a writer that is gone gave before it went, if it gave one."""
+        try:
+            while self._conns[k].poll():
+                message = self._conns[k].recv()
+                if message[0] == "failed":
+                    return message[1]
+        except (EOFError, OSError):
+            pass
+        return None
+
     def _join(self) -> None:
+        """End the writers (killing one that does not finish in GIVE_UP_SECONDS) and release pipes and slots."""
         for process in self._processes:
             process.join(timeout=GIVE_UP_SECONDS)
             if process.is_alive():
                 process.kill()
                 process.join()
+        for conn in self._conns:
+            conn.close()
+        for slot in self.slots:
+            slot.release()

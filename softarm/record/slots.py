@@ -56,3 +56,11 @@ class Slot:
         """The first n frames of one arm: views, valid until the slot is filled again."""
         a = self.arrays
         return a["images"][arm, :n], a["stretch"][arm, :n], a["positions"][arm, :n], a["displacement"][arm, :n]
+
+    def release(self) -> None:
+        """Unmap the block (its arrays must not be used after this)."""
+        self.arrays.clear()
+        try:
+            self._memory.close()
+        except BufferError:  # a view still exists somewhere: the mapping goes when it does
+            pass

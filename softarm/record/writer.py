@@ -1,8 +1,8 @@
 """Writes one arm's run as a softarm-recording/2 MCAP file (docs/recording.md).
 
 The file grows as `<name>.mcap.part` and is renamed when it is closed, so a path without `.part`
-is always a whole file: closed normally (`complete = "true"`), or on Ctrl-C with every frame
-recorded so far (`complete = "false"`). A failed run discards its `.part`.
+is always a whole file: closed normally (`complete = "true"`), or cut off with every frame recorded so
+far (`complete = "false"`). A blown-up run discards its `.part`; a failed write leaves it for the reader.
 """
 
 from pathlib import Path
@@ -55,11 +55,21 @@ class RecordingWriter:
         self.path = Path(path)
         self.frame_dt = frame_dt
         self.frames = 0
+        self.broken = False
         self._mcap = McapFile(self.path, (IMAGE,), JSON_SCHEMAS)
         self._mcap.writer.add_metadata(META_MODEL, {"format": FORMAT, "model": orjson.dumps(model).decode()})
 
     def write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray) -> None:
-        """Append a block of frames: images (B, H, W) of 0/1, stretch (B, P), positions (B, N, 2), displacement (B,)."""
+        """Append a block of frames: images (B, H, W) of 0/1, stretch (B, P), positions (B, N, 2), displacement (B,).
+
+        A write that fails (a full disk) marks the writer broken: its file may end in half a record, so it
+        must stay `.part` (the reader recovers every complete chunk) and never be closed.
+        """
+        self.broken = True
+        self._write(images, stretch, positions, displacement)
+        self.broken = False
+
+    def _write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray) -> None:
         n = len(images)
         stamps = np.round(np.arange(self.frames, self.frames + n) * self.frame_dt * 1e9).astype(np.int64).tolist()
         seconds = [ns / 1e9 for ns in stamps]

@@ -1,9 +1,10 @@
 """One writer process: owns the recordings of some arms of a batch and writes the blocks the simulation shares.
 
-It ignores Ctrl-C and SIGTERM, which reach the whole process group: the simulating parent decides and
+It ignores Ctrl-C, SIGTERM and SIGHUP, which reach the whole process group: the simulating parent decides and
 then asks it to close (keeping every frame) or to discard. A writer whose parent died closes its
-files by itself with complete = "false"; a writer that fails (a full disk) leaves its `.part` files,
-whose complete chunks the reader recovers, and says why before it exits.
+files by itself with complete = "false" (it polls for its parent every second: the pipe cannot say, since
+writers forked later hold its other end too); a writer that fails (a full disk) closes what it still can
+and leaves the rest as `.part` files, whose complete chunks the reader recovers, and says why.
 """
 
 import os
@@ -22,8 +23,8 @@ POLL_SECONDS = 1.0                          # how often an idle writer checks th
 def serve(arms: list[int], specs: list[Spec], slots: list[Slot], conn: Connection, parent: int) -> None:
     """The writer's loop: ("write", slot, n) | ("close", complete) | ("discard",) from the parent, answered
     ("ready",), ("wrote", slot), ("closed",), ("discarded",) or ("failed", reason)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):  # the parent decides, even when a terminal closes
+        signal.signal(sig, signal.SIG_IGN)
     writers: dict[int, RecordingWriter] = {}
     try:
         for arm in arms:
@@ -49,8 +50,10 @@ def serve(arms: list[int], specs: list[Spec], slots: list[Slot], conn: Connectio
                 conn.send(("discarded",))
                 return
     except OSError as e:  # no space, an I/O error: the .part files keep every complete chunk
+        _close_what_can_be(writers)
         _tell(conn, ("failed", f"{e.strerror or e}" + (f": {e.filename}" if e.filename else "")))
     except Exception as e:
+        _close_what_can_be(writers)
         _tell(conn, ("failed", f"{type(e).__name__}: {e}"))
 
 
@@ -67,6 +70,17 @@ def _next_message(conn: Connection, parent: int) -> Any:
 def _close(writers: dict[int, RecordingWriter], complete: bool) -> None:
     for writer in writers.values():
         writer.close(complete)
+
+
+def _close_what_can_be(writers: dict[int, RecordingWriter]) -> None:
+    """After a failure, close every file that still can be (complete = "false"); the others stay .part."""
+    for writer in writers.values():
+        if writer.broken:  # its file may end in half a record: it stays .part
+            continue
+        try:
+            writer.close(False)
+        except Exception:  # this one cannot be finished (the disk is full): its .part keeps its chunks
+            pass
 
 
 def _tell(conn: Connection, message: tuple) -> None:

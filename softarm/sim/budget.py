@@ -14,6 +14,7 @@ import psutil
 
 from softarm.config import Config
 from softarm.errors import ConfigError
+from softarm.record.process import writer_processes
 
 MAX_FRAMES = 10**9           # frames per arm: 116 days at the default 100 Hz; more is a typo, not a study
 WRITER_BYTES_PER_ARM = 4 * 2**20   # a writer's chunk in progress, its joined copy and its compressed copy
@@ -22,6 +23,20 @@ HEADROOM = 0.8               # of the available memory or free disk a run may pl
 FILE_BYTES = 64 * 1024       # metadata, summary and index of one recording
 PIXEL_BYTES_ON_DISK = 0.03   # zstd keeps about 3 % of a binary frame's bytes ...
 JSON_BYTES_ON_DISK = 0.4     # ... and 40 % of the JSON; the default run writes 0.86 kB a frame, this says 0.84
+
+
+BLOCK_BYTES = 256 * 2**20  # memory for one block of positions and images, all arms together
+MAX_BLOCK_FRAMES = 500      # 5 s: long enough that Taichi's cost per kernel launch does not show
+BLOCK_ARM_FRAMES = 6400     # arm-frames per block: the writers' work left after the last block stays short
+MIN_BLOCK_FRAMES = 50
+
+
+def block_frames_for(config: Config) -> int:
+    """Frames per kernel launch: about BLOCK_ARM_FRAMES arm-frames (one arm: MAX_BLOCK_FRAMES), never more than
+    fit BLOCK_BYTES for the whole batch. Smaller blocks for big batches keep the writers close behind."""
+    per_frame = config.run.arms * (config.body.rows * config.body.columns * 2 * 8 + config.camera.height * config.camera.width)
+    target = min(MAX_BLOCK_FRAMES, max(MIN_BLOCK_FRAMES, BLOCK_ARM_FRAMES // config.run.arms))
+    return max(1, min(target, config.n_frames, BLOCK_BYTES // per_frame))
 
 
 @dataclass(frozen=True)
@@ -40,7 +55,10 @@ def footprint(config: Config) -> Footprint:
     sensors = len(config.sensors.pairs)
     pixels = config.camera.width * config.camera.height
     json_bytes = nodes * 2 * 14 + sensors * 22 + 80
-    frame_bytes = (nodes * 2 * 8 * 2 + pixels + config.camera.height * 8) + SLOTS * (pixels + nodes * 16 + sensors * 8 + 8)
+    # positions (kernel array and the block handed on), image and row spans, the shared slots, and a writer's
+    # copies of a block (the 0/255 image, the encoded messages, the joined chunk)
+    frame_bytes = (nodes * 2 * 8 * 2 + pixels + config.camera.height * 8) + SLOTS * (pixels + nodes * 16 + sensors * 8 + 8) \
+        + 3 * (pixels + json_bytes)
     disk = config.run.arms * (FILE_BYTES + config.n_frames * (PIXEL_BYTES_ON_DISK * pixels + JSON_BYTES_ON_DISK * json_bytes))
     return Footprint(frames=config.n_frames, frame_bytes=frame_bytes, arm_bytes=nodes * 2 * 8 * 3 + WRITER_BYTES_PER_ARM,
                      disk_bytes=int(disk))
@@ -54,18 +72,20 @@ def check_resources(config: Config, out_folder: Path) -> None:
         raise ConfigError(f"{need.frames:.3g} frames per arm (run.duration {config.run.duration:g} s at "
                           f"integration.frame_dt {config.integration.frame_dt:g} s) is more than any run needs "
                           f"(at most {MAX_FRAMES:.0e}): check the two keys")
-    available = psutil.virtual_memory().available * HEADROOM
+    available = available_memory() * HEADROOM
+    block = block_frames_for(config)
     if need.memory(1, 1) > available:
         pixels = config.camera.width * config.camera.height
         fit = available / need.memory(1, 1) * pixels
         raise ConfigError(f"a {config.camera.width} x {config.camera.height} camera needs {gigabytes(need.memory(1, 1))} "
                           f"of memory for one frame of one arm, {gigabytes(available)} are available: make "
                           f"camera.width x camera.height at most about {fit:.3g} pixels")
-    if need.memory(arms, 1) > available:
-        per_arm = need.memory(1, 1)
-        raise ConfigError(f"{arms} arm(s) with a {config.camera.width} x {config.camera.height} camera need at least "
-                          f"{gigabytes(need.memory(arms, 1))} of memory ({gigabytes(per_arm)} an arm), "
-                          f"{gigabytes(available)} are available: at most {int(available // per_arm)} arm(s) fit")
+    if need.memory(arms, block) > available:
+        per_arm = need.memory(1, block)
+        raise ConfigError(f"{arms} arm(s) with a {config.camera.width} x {config.camera.height} camera need about "
+                          f"{gigabytes(need.memory(arms, block))} of memory ({gigabytes(per_arm)} an arm in blocks of "
+                          f"{block} frames), {gigabytes(available)} are available: at most {int(available // per_arm)} "
+                          f"arm(s) fit")
     free = shutil.disk_usage(existing(out_folder)).free * HEADROOM
     if need.disk_bytes > free:
         seconds = config.run.duration * free / need.disk_bytes
@@ -74,17 +94,29 @@ def check_resources(config: Config, out_folder: Path) -> None:
     _check_open_files(arms)
 
 
+def available_memory() -> int:
+    """Available memory, within the cgroup's limit when the process runs in one (a container, a batch job)."""
+    free = psutil.virtual_memory().available
+    try:
+        limit, used = (Path("/sys/fs/cgroup") / name for name in ("memory.max", "memory.current"))
+        if limit.read_text().strip() != "max":
+            free = min(free, int(limit.read_text()) - int(used.read_text()))
+    except (OSError, ValueError):
+        pass
+    return free
+
+
 def _check_open_files(arms: int) -> None:
-    """Every arm's file stays open while it is written: raise the process's limit if it allows, else refuse."""
+    """Every arm's file stays open in its writer: raise the limit if it allows, else refuse."""
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
-    needed = arms + 64
+    needed = -(-arms // writer_processes(arms)) + 64
     if needed <= soft:
         return
     if hard == resource.RLIM_INFINITY or needed <= hard:
         resource.setrlimit(resource.RLIMIT_NOFILE, (needed, hard))
         return
-    raise ConfigError(f"{arms} arms need {arms} files open at once, but this process may open {hard}: "
-                      f"run at most {hard - 64} arms at a time")
+    raise ConfigError(f"{arms} arms need {needed - 64} files open in each writer, but a process may open {hard}: "
+                      f"run at most {(hard - 64) * writer_processes(arms)} arms at a time")
 
 
 def existing(folder: Path) -> Path:

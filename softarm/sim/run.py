@@ -12,13 +12,13 @@ from softarm.arm.sensors import stretch
 from softarm.config import Config
 from softarm.files import check_outputs
 from softarm.interrupt import stop_on_signal
-from softarm.errors import SimulationError
+from softarm.errors import RecordingError, SimulationError
 from softarm.record.kept import describe_kept
 from softarm.record.process import RecorderProcess, WriterFailed
 from softarm.record.slots import BlockShape
 from softarm.record.writer import model_metadata
 from softarm.sim import check_arch
-from softarm.sim.budget import check_resources
+from softarm.sim.budget import block_frames_for, check_resources
 
 if TYPE_CHECKING:
     from softarm.sim.physics import Simulator
@@ -70,27 +70,14 @@ def output_paths(config: Config, out: Union[str, Path, None] = None) -> list[Pat
     return [out.with_name(f"{out.stem}_arm{i}{out.suffix or '.mcap'}") for i in range(config.run.arms)]
 
 
-BLOCK_BYTES = 256 * 2**20  # device memory for one block of positions and images, all arms together
-MAX_BLOCK_FRAMES = 500      # 5 s: long enough that Taichi's cost per kernel launch does not show
-BLOCK_ARM_FRAMES = 6400     # arm-frames per block: the writers' work left after the last block stays short
-MIN_BLOCK_FRAMES = 50
-
-
-def block_frames_for(config: Config, n_nodes: int) -> int:
-    """Frames per kernel launch: about BLOCK_ARM_FRAMES arm-frames (one arm: MAX_BLOCK_FRAMES), never more than
-    fit BLOCK_BYTES for the whole batch. Smaller blocks for big batches keep the writers close behind."""
-    per_frame = config.run.arms * (n_nodes * 2 * 8 + config.camera.height * config.camera.width)
-    target = min(MAX_BLOCK_FRAMES, max(MIN_BLOCK_FRAMES, BLOCK_ARM_FRAMES // config.run.arms))
-    return max(1, min(target, config.n_frames, BLOCK_BYTES // per_frame))
-
-
 def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = False, arch: str = "cpu",
              progress: Optional[Callable[[int], None]] = None) -> SimResult:
     """Run config.run.arms arms for config.run.duration seconds and record each to its MCAP file.
 
     `progress(frames_done)` is called after every block. Ctrl-C stops at the next block boundary and
-    closes every file with complete = "false"; any error removes every file of the run. Taichi starts
-    on `arch` at the first call (cpu | gpu | auto).
+    closes every file with complete = "false". A blow-up removes every file of the run; any other failure
+    keeps every frame that reached the disk and says where. Taichi starts on `arch` at the first call
+    (cpu | gpu | auto).
     """
     from softarm.sim.physics import Simulator  # Taichi loads here, not when softarm is imported
     from softarm.sim.raster import Rasteriser
@@ -103,30 +90,35 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     batch = arm_batch(config)  # config errors first: a refused run creates no folder
     paths = output_paths(config, out)
     check_outputs(paths, force)
-    init_taichi(arch)
-
     body, integ = batch.body, config.integration
-    block_frames = block_frames_for(config, body.n_nodes)
-    sim = Simulator.from_config(config, batch, block_frames)
+    block_frames = block_frames_for(config)
+    specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
+             for path, drive, seed, p0, v0 in zip(paths, batch.drives, batch.seeds, batch.positions, batch.velocities)]
+    # The writers fork before Taichi starts its threads: a child never inherits a lock held by one of them.
+    recorder = RecorderProcess(specs, BlockShape(batch.arms, block_frames, config.camera.height, config.camera.width,
+                                                 len(body.sensors), body.n_nodes))
+    try:
+        init_taichi(arch)
+        sim = Simulator.from_config(config, batch, block_frames)
+    except BaseException:
+        recorder.discard()
+        raise
     try:
         camera = Rasteriser(config.camera, body.outline, batch.arms, block_frames)
-        specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
-                 for path, drive, seed, p0, v0 in zip(paths, batch.drives, batch.seeds, batch.positions,
-                                                       batch.velocities)]
-        recorder = RecorderProcess(specs, BlockShape(batch.arms, block_frames, config.camera.height,
-                                                     config.camera.width, len(body.sensors), body.n_nodes))
         laps.lap("setup")
-        try:
-            done, complete = record_blocks(config, batch, sim, camera, recorder, laps, progress)
-        except SimulationError:  # a blow-up leaves nothing behind
-            recorder.discard()
-            raise
-        except WriterFailed as failure:  # everything that reached the disk stays, and the message says where
-            recorder.keep()
-            raise WriterFailed(f"recording stopped: {failure}; {describe_kept(paths)}") from None
-        except BaseException:
-            recorder.keep()
-            raise
+        done, complete = record_blocks(config, batch, sim, camera, recorder, laps, progress)
+    except SimulationError:  # a blow-up leaves nothing behind
+        recorder.discard()
+        raise
+    except WriterFailed as failure:  # everything that reached the disk stays, and the message says where
+        recorder.keep()
+        raise WriterFailed(f"recording stopped: {failure}; {describe_kept(paths)}") from None
+    except Exception as error:  # anything else cut the run short: keep the frames, say where they are
+        recorder.keep()
+        raise RecordingError(f"recording stopped by {type(error).__name__}: {error}; {describe_kept(paths)}") from error
+    except BaseException:
+        recorder.keep()
+        raise
     finally:
         sim.close()
     return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,

@@ -10,9 +10,9 @@ from pathlib import Path
 from typing import Callable, Optional, Union
 
 from softarm.config import load_config
-from softarm.errors import OutputError, SoftarmError
-from softarm.files import check_outputs, write_json
-from softarm.interrupt import stop_on_signal
+from softarm.errors import SoftarmError
+from softarm.files import write_json
+from softarm.sim.groups import fresh_manifest, simulate_groups
 from softarm.suite.families import (CANDIDATES, DURATION, FAMILIES, SEEDS_PER_LEVEL, SUITE_SEED_BASE, SUITE_VERSION,
                                     level_seeds)
 from softarm.suite.manifest import MANIFEST
@@ -22,32 +22,24 @@ def write_suite(folder: Union[str, Path], force: bool = False, arch: str = "cpu"
     """Write the suite's recordings and manifest into `folder`; the manifest's path, or None when Ctrl-C
     (or SIGTERM) stopped it: then the folder holds no manifest, so nothing takes it for a whole suite.
 
-    `progress(done, total)` is called after every level.
+    `progress(arm_frames_done, arm_frames_in_all)` is called as the runs go.
     """
-    from softarm.sim.run import simulate
-
-    folder = Path(folder)
-    manifest = folder / MANIFEST
-    if manifest.exists() and not force:
-        raise OutputError(f"{folder} already holds a suite ({manifest}); pass --force to write it again")
-    check_outputs([manifest], force=True)
-    manifest.unlink(missing_ok=True)  # a suite is whole or has no manifest
+    manifest = fresh_manifest(Path(folder), MANIFEST, "a suite", force)
     levels = level_seeds()
+    runs = [(f"{family.name}_level{family.levels.index(level)}",
+             load_config(overrides={**level.overrides, "run.duration": DURATION, "run.seed": seed,
+                                    "run.arms": CANDIDATES})) for family, level, seed in levels]
     entries: dict[str, dict] = {f.name: {"probes": f.probes, "levels": {}} for f in FAMILIES}
-    with stop_on_signal() as caught:
-        for done, (family, level, seed) in enumerate(levels, 1):
-            config = load_config(overrides={**level.overrides, "run.duration": DURATION, "run.seed": seed,
-                                            "run.arms": CANDIDATES})
-            result = simulate(config, folder / f"{family.name}_level{family.levels.index(level)}.mcap", force=True,
-                              arch=arch)
-            if caught or not result.complete:
-                return None
-            kept = keep_in_view(result.paths, SEEDS_PER_LEVEL, f"{family.name} {level.name}")
-            entries[family.name]["levels"][level.name] = {
-                "overrides": level.overrides, "sensing": level.sensing,
-                "seeds": [seed + result.paths.index(p) for p in kept], "recordings": [p.name for p in kept]}
-            if progress:
-                progress(done, len(levels))
+
+    def keep(k: int, paths: list[Path]) -> None:
+        family, level, seed = levels[k]
+        kept = keep_in_view(paths, SEEDS_PER_LEVEL, f"{family.name} {level.name}")
+        entries[family.name]["levels"][level.name] = {
+            "overrides": level.overrides, "sensing": level.sensing,
+            "seeds": [seed + paths.index(p) for p in kept], "recordings": [p.name for p in kept]}
+
+    if not simulate_groups(Path(folder), runs, arch, keep, progress):
+        return None
     return write_json(manifest, {"suite": SUITE_VERSION, "seed_base": SUITE_SEED_BASE, "duration": DURATION,
                                  "families": entries})
 
