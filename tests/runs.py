@@ -3,7 +3,19 @@
 import numpy as np
 
 from softarm.arm.batch import arm_batch
+from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
+
+
+def reference_run(seed: int, n_frames: int):
+    """(config, batch, expected): the default arm with this seed, started as a real run starts it, and the
+    float64 NumPy reference's positions of its first n_frames frames."""
+    config = load_config()
+    batch = arm_batch(config, seeds=[seed])
+    i = config.integration
+    expected = simulate_reference(batch.body, batch.drives[0], batch.positions[0], batch.velocities[0], i.frame_dt,
+                                  i.substeps, n_frames)
+    return config, batch, expected
 
 
 def assert_batch_equals_single_runs(make_run, tolerance: float) -> None:

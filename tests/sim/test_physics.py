@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from oscillator import REST_LENGTH, STILL, analytic_rates, measured_rates, one_spring, pulled
-from runs import assert_batch_equals_single_runs
+from runs import assert_batch_equals_single_runs, reference_run
 from softarm.arm.batch import arm_batch
 from softarm.arm.body import build_body
 from softarm.arm.drive import drive_for_seed
@@ -17,11 +17,8 @@ from softarm.sim.physics import Simulator
 
 @pytest.mark.parametrize("seed", [0, 1])  # seed 1 checks the time offset t0 (about 51 s) too
 def test_default_arm_matches_the_numpy_reference_over_five_seconds(seed):
-    config = load_config()
-    batch = arm_batch(config, seeds=[seed])
-    x, v = batch.positions[0], batch.velocities[0]
-    i = config.integration
-    expected = simulate_reference(batch.body, batch.drives[0], x, v, i.frame_dt, i.substeps, 500)
+    config, batch, expected = reference_run(seed, 500)
+    x = batch.positions[0]
     got = Simulator.from_config(config, batch).advance(500)[0]
     assert np.abs(expected - x).max() > 1e-2  # the drive really moves the arm
     assert np.abs(got - expected).max() < 1e-7
