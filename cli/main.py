@@ -134,6 +134,7 @@ def train(
     include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].", show_default=False)] = None,
     latent: Annotated[Optional[int], typer.Option(help=f"Latent features of the autoencoder [default: {D.train.latent}].")] = None,
     seed: Annotated[Optional[int], typer.Option(help=f"Seed of initialisation and shuffling [default: {D.train.seed}].")] = None,
+    minutes: Annotated[Optional[float], typer.Option(help="Fit the schedules into this many minutes of training, measured on this machine (sets train.max_steps_*; not reproducible elsewhere).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue the interrupted run saved in --out.")] = False,
     spawn: Annotated[bool, typer.Option("--spawn", help="Open a Rerun viewer with live losses and a held-out clip.")] = False,
     rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Save the live view to this .rrd file.")] = None,
@@ -151,7 +152,7 @@ def train(
                  "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
     result = train_with_progress(recordings, cfg, out_path, resume=resume, force=force, spawn=spawn, rrd=rrd,
-                                 quiet=quiet)
+                                 quiet=quiet, minutes=minutes)
     if not result.complete:
         if result.checkpoint.exists():
             err.print(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "

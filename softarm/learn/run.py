@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, Callable, Optional, Sequence, Union
 
 from softarm.config import Config, load_config
-from softarm.errors import CheckpointError, OutputError, RecordingError
+from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingError
 from softarm.files import check_outputs, write_json
 from softarm.interrupt import stop_on_signal
 from softarm.learn.observer import Progress, open_observer
@@ -73,13 +73,17 @@ def check_train_outputs(checkpoint: Path, rrd: Optional[PathLike], resume: bool,
 
 def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: Optional[PathLike] = None,
           resume: bool = False, force: bool = False, rrd: Optional[PathLike] = None, spawn: bool = False,
-          progress: Optional[Progress] = None, stop: Callable[[], bool] = lambda: False) -> TrainResult:
+          progress: Optional[Progress] = None, stop: Callable[[], bool] = lambda: False,
+          minutes: Optional[float] = None) -> TrainResult:
     """Train (or with resume, continue) on recordings; write the checkpoint and, at the end, its metrics JSON.
 
-    `rrd` saves and `spawn` shows a live Rerun view. Ctrl-C (or SIGTERM, or `stop()` returning True)
+    `minutes` fits a new run's schedules into that wall-clock budget (softarm.learn.budget). `rrd` saves and
+    `spawn` shows a live Rerun view. Ctrl-C (or SIGTERM, or `stop()` returning True)
     ends training within a batch; the checkpoint of the last finished epoch stays (`complete` False).
     """
     start = time.perf_counter()
+    if minutes is not None and minutes <= 0:
+        raise ConfigError(f"--minutes {minutes:g}: give a positive budget")
     out = Path(out) if out is not None else default_checkpoint(recordings)
     recordings = expand_folders(recordings)
     check_train_outputs(out, rrd, resume, force)
@@ -90,6 +94,10 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     with tempfile.TemporaryDirectory(prefix=f".{out.stem}-frames-", dir=out.parent) as cache:
         state = start_state(recordings, config if config is not None else load_config(), out, resume,
                             Path(cache) if len(recordings) > 1 else None)
+        if minutes is not None and not resume:
+            from softarm.learn.budget import fit_to_minutes
+
+            fit_to_minutes(state, minutes, time.perf_counter() - start)
         with open_observer(rrd, spawn) as observer, stop_on_signal() as caught:
             complete = fit(state, out, observer, progress or (lambda *_: None), lambda: bool(caught) or stop())
         if not complete:

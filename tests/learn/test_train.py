@@ -98,3 +98,23 @@ def test_resume_warns_that_changed_settings_are_ignored(recordings, tiny_checkpo
                       tmp_path / "done.pt", resume=True)
     assert any("train.epochs_lstm = 99" in str(w.message) for w in caught)
     assert again.metrics == tiny_checkpoint.metrics  # the saved run was already finished: nothing changes
+
+
+def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_the_checkpoint(
+        recordings, tmp_path, monkeypatch):
+    from softarm.learn import budget
+    from softarm.learn.train import schedules
+    from softarm.learn.train_state import start_state
+
+    config = load_config(overrides={**TINY, "train.epochs_ae": 400, "train.epochs_lstm": 4000})  # hours of work
+    monkeypatch.setattr(budget, "_autoencoder_step", lambda state: 0.01)  # measured step times, fixed here
+    monkeypatch.setattr(budget, "_lstm_step", lambda state: 0.001)
+    state = start_state([recordings / "s0.mcap"], config, tmp_path / "x.pt", resume=False)
+    ae, lstm = schedules(state)
+    budget.fit_to_minutes(state, minutes=1.0, spent=6.0)
+    scale = (60 * 0.9 - 6.0) / (ae.total * 0.01 + lstm.total * 0.001)
+    assert state.config.train.max_steps_ae == int(ae.total * scale)
+    assert state.config.train.max_steps_lstm == int(lstm.total * scale)
+    trained = train([recordings / "s0.mcap"], config, tmp_path / "budget.pt", minutes=0.1)
+    saved = load_checkpoint(trained.checkpoint)["config"]["train"]
+    assert trained.complete and 0 < saved["max_steps_ae"] < ae.total and 0 < saved["max_steps_lstm"] < lstm.total

@@ -1,0 +1,62 @@
+"""`--minutes`: fit both networks' schedules into a wall-clock budget, from the step times measured here.
+
+A few forward and backward passes of each network on a batch of the real shapes (no optimiser step,
+so the run itself is unchanged) give the seconds per step; both schedules then shrink by one factor
+so that their steps, the encoding of every frame and the scoring fit what is left of the budget. The
+result is written into the config as `train.max_steps_*`, so the checkpoint records it and `--resume`
+continues the same schedule. Step times differ between machines: a budgeted run is not reproducible
+elsewhere, an unbudgeted one is.
+"""
+
+import copy
+import math
+import time
+from typing import Callable
+
+import torch
+import torch.nn.functional as F
+
+from softarm.learn.models import StretchToLatent
+from softarm.learn.train import schedules
+from softarm.learn.train_state import TrainState
+
+PROBE_STEPS = 3
+RESERVE = 0.1  # of the budget, kept for encoding the frames and scoring held-out data
+
+
+def fit_to_minutes(state: TrainState, minutes: float, spent: float) -> None:
+    """Cap the schedules of `state` (not yet started) so that training ends within `minutes`, `spent`
+    seconds of which are gone already (loading the data)."""
+    ae, lstm = schedules(state)
+    ae_step, lstm_step = _autoencoder_step(state), _lstm_step(state)
+    budget = minutes * 60 * (1 - RESERVE) - spent
+    scale = min(1.0, max(budget, 0.0) / (ae.total * ae_step + lstm.total * lstm_step))
+    state.config = state.config.replace(**{"train.max_steps_ae": max(1, math.floor(ae.total * scale)),
+                                           "train.max_steps_lstm": max(1, math.floor(lstm.total * scale))})
+
+
+def _seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor]) -> float:
+    """Seconds of one forward and backward pass; the model's weights and statistics are left as they were."""
+    saved = copy.deepcopy(model.state_dict())  # batch normalisation updates its running statistics in training mode
+    model.train()
+    loss().backward()  # warm up
+    start = time.perf_counter()
+    for _ in range(PROBE_STEPS):
+        loss().backward()
+    seconds = (time.perf_counter() - start) / PROBE_STEPS
+    model.zero_grad(set_to_none=True)
+    model.load_state_dict(saved)
+    return seconds
+
+
+def _autoencoder_step(state: TrainState) -> float:
+    frames = torch.from_numpy(state.data.frames("train")[:state.config.train.batch_ae]).float()
+    return _seconds_per_step(state.autoencoder, lambda: F.binary_cross_entropy_with_logits(state.autoencoder(frames),
+                                                                                         frames))
+
+
+def _lstm_step(state: TrainState) -> float:
+    t = state.config.train
+    network = StretchToLatent(state.data.sensor_count, t.lstm_hidden, t.latent)  # a stand-in of the same size
+    windows = torch.zeros(t.batch_lstm, t.history, state.data.sensor_count)
+    return _seconds_per_step(network, lambda: network(windows).square().mean())
