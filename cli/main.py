@@ -31,6 +31,8 @@ if TYPE_CHECKING:
 D = load_config()  # the defaults that --help shows come from the config, their one source of truth
 
 T = TypeVar("T")
+ArchOption = Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")]
+CheckpointArgument = Annotated[Path, typer.Argument(metavar="CHECKPOINT", help="Checkpoint from `softarm train`.")]
 SENSOR_NOISE_HELP = ("Sensor imperfections to read with, replacing the checkpoint's, e.g. noise=2e-5,drift=1e-5 "
                      "(keys of the [sensing] config section but pairs; see `softarm config`).")
 
@@ -84,7 +86,7 @@ def sim(
     substeps: Annotated[Optional[int], typer.Option(help=f"Integration substeps per {D.integration.frame_dt:g} s frame [default: {D.integration.substeps}].")] = None,
     arms: Annotated[Optional[int], typer.Option(help=f"Arms simulated together; arm i uses seed + i and gets its own file [default: {D.run.arms}].")] = None,
     seed: Annotated[Optional[int], typer.Option(help=f"Seed of arm 0; seed 0 is the paper's run [default: {D.run.seed}].")] = None,
-    arch: Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")] = "cpu",
+    arch: ArchOption = "cpu",
     out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="Output .mcap [default: recordings/seed<SEED>.mcap]; a batch writes <stem>_arm<i>.mcap.")] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no summary.")] = False,
@@ -168,7 +170,7 @@ def train(
 
 @app.command()
 def replay(
-    checkpoint: Annotated[Path, typer.Argument(metavar="CHECKPOINT", help="Checkpoint from `softarm train`.")],
+    checkpoint: CheckpointArgument,
     recording: Annotated[Path, typer.Argument(metavar="RECORDING", help="Recording (.mcap) to imagine; any seed, offset or amplitude.")],
     rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Write the Rerun timeline (camera | imagined | difference | fused, signals, IoU).")] = None,
     mcap: Annotated[Optional[Path], typer.Option("--mcap", help="Write the imagination as MCAP (/imagination/image, /imagination/iou).")] = None,
@@ -203,7 +205,7 @@ def corpus(
     preset: Annotated[str, typer.Option(help="general: every kind of motion; paper: the paper's drive at many time offsets.")] = "general",
     arms: Annotated[int, typer.Option(help="Arms in all, spread over the preset's groups.")] = DEFAULT_ARMS,
     duration: Annotated[float, typer.Option(help="Seconds simulated per arm.")] = DEFAULT_DURATION,
-    arch: Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")] = "cpu",
+    arch: ArchOption = "cpu",
     force: Annotated[bool, typer.Option("--force", help="Write over a corpus already in DIR.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no summary.")] = False,
 ) -> None:
@@ -229,7 +231,7 @@ def corpus(
 @app.command()
 def suite(
     folder: Annotated[Path, typer.Argument(metavar="DIR", help="Folder for the suite's recordings and suite.json.")],
-    arch: Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")] = "cpu",
+    arch: ArchOption = "cpu",
     force: Annotated[bool, typer.Option("--force", help="Write over a suite already in DIR.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar and no summary.")] = False,
 ) -> None:
@@ -252,7 +254,7 @@ def suite(
 
 @app.command()
 def evaluate(
-    checkpoint: Annotated[Path, typer.Argument(metavar="CHECKPOINT", help="Checkpoint from `softarm train`.")],
+    checkpoint: CheckpointArgument,
     suite_folder: Annotated[Path, typer.Argument(metavar="SUITE_DIR", help="Folder written by `softarm suite`.")],
     json_path: Annotated[Optional[Path], typer.Option("--json", help="Write every family's scores as JSON.")] = None,
     png: Annotated[Optional[Path], typer.Option("--png", help="Write the per-family IoU bars (model vs baselines).")] = None,
