@@ -4,8 +4,9 @@ cost of a batch replay measured in the same run.
 
     python bench/streaming.py [--checkpoint CKPT] [--samples N]
 
-Without a checkpoint it times the default networks (latent 16, LSTM 128, history 6) with fresh
-weights: latency does not depend on what the weights learned.
+Without a checkpoint it times both latent models at their default sizes (latent 16, LSTM 128; the
+window model over 6 samples, the stream model one sample at a time) with fresh weights: latency does
+not depend on what the weights learned.
 """
 
 import argparse
@@ -17,7 +18,7 @@ import torch
 from softarm.config import load_config
 from softarm.learn.checkpoint import load_checkpoint
 from softarm.learn.imaginer import Imaginer
-from softarm.learn.models import Autoencoder, StretchToLatent
+from softarm.learn.models import Autoencoder, latent_model
 from softarm.learn.scaler import Scaler
 from softarm.learn.stream import StreamingImaginer
 
@@ -25,25 +26,20 @@ PERIOD_MS = 10.0  # the default frame step: 100 samples a second
 GOAL_MS = 1.0
 
 
-def default_imaginer() -> Imaginer:
+def default_imaginer(model: str) -> Imaginer:
     config = load_config()
     t, sensors = config.train, len(config.sensors.pairs)
     torch.manual_seed(0)
     ae = Autoencoder(config.camera.height, config.camera.width, t.latent).eval()
-    lstm = StretchToLatent(sensors, t.lstm_hidden, t.latent).eval()
+    lstm = latent_model(model, sensors, t.lstm_hidden, t.latent).eval()
     ae.to(memory_format=torch.channels_last)
     identity = lambda n: Scaler(keep=np.ones(n, bool), mean=np.zeros(n), std=np.ones(n))  # noqa: E731
-    return Imaginer(ae, lstm, identity(t.latent), identity(sensors), t.history, t.include_current)
+    return Imaginer(ae, lstm, identity(t.latent), identity(sensors), t.history, t.include_current, model)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--checkpoint", default=None)
-    ap.add_argument("--samples", type=int, default=2000)
-    args = ap.parse_args()
-    torch.set_num_threads(1)  # one core, as a robot's control loop gets
-    imaginer = Imaginer.from_checkpoint(load_checkpoint(args.checkpoint)) if args.checkpoint else default_imaginer()
-    signals = np.random.default_rng(0).normal(0, 1e-3, (args.samples, imaginer.stretch_scaler.mean.shape[0]))
+def measure(imaginer: Imaginer, samples: int) -> tuple[np.ndarray, float]:
+    """Per-sample streaming latencies (ms, after the first window) and the per-frame cost of a batch replay (ms)."""
+    signals = np.random.default_rng(0).normal(0, 1e-3, (samples, imaginer.stretch_scaler.mean.shape[0]))
     stream = StreamingImaginer(imaginer)
     for sample in signals[:50]:  # warm up
         stream.step(sample)
@@ -53,16 +49,28 @@ def main() -> None:
         start = time.perf_counter()
         stream.step(sample)
         latencies.append(time.perf_counter() - start)
-    steady = np.array(latencies[imaginer.history:]) * 1e3
     start = time.perf_counter()
     imaginer.imagine(signals)
     batch_ms = (time.perf_counter() - start) * 1e3 / (len(signals) - imaginer.history)
-    median, p99 = np.median(steady), np.percentile(steady, 99)
-    print(f"torch {torch.__version__}, 1 thread, {len(steady)} samples")
-    print("| online imagination, one sample | ms | against |\n|---|---:|---|")
-    print(f"| median latency | {median:.3f} | {median / GOAL_MS:.2f}x the 1 ms goal, {median / PERIOD_MS:.1%} of the 10 ms period |")
-    print(f"| 99th percentile | {p99:.3f} | {p99 / GOAL_MS:.2f}x the 1 ms goal |")
-    print(f"| batch replay, per frame | {batch_ms:.3f} | streaming costs {median / batch_ms:.1f}x a batched frame |")
+    return np.array(latencies[imaginer.history:]) * 1e3, batch_ms
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--checkpoint", default=None)
+    ap.add_argument("--samples", type=int, default=2000)
+    args = ap.parse_args()
+    torch.set_num_threads(1)  # one core, as a robot's control loop gets
+    imaginers = ({"checkpoint": Imaginer.from_checkpoint(load_checkpoint(args.checkpoint))} if args.checkpoint
+                 else {model: default_imaginer(model) for model in ("window", "stream")})
+    print(f"torch {torch.__version__}, 1 thread, {args.samples} samples")
+    print("| online imagination, one sample | median ms | 99th percentile ms | median against the 1 ms goal "
+          "| share of the 10 ms period | batch replay, ms per frame |\n|---|---:|---:|---:|---:|---:|")
+    for name, imaginer in imaginers.items():
+        steady, batch_ms = measure(imaginer, args.samples)
+        median, p99 = np.median(steady), np.percentile(steady, 99)
+        print(f"| {name} model ({imaginer.model}) | {median:.3f} | {p99:.3f} | {median / GOAL_MS:.2f}x "
+              f"| {median / PERIOD_MS:.1%} | {batch_ms:.3f} |")
 
 
 if __name__ == "__main__":

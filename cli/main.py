@@ -132,6 +132,7 @@ def train(
     config: Annotated[Optional[Path], typer.Option("--config", "-c", help="TOML config; its [train] section sets the defaults below.")] = None,
     epochs_ae: Annotated[Optional[int], typer.Option(help=f"Autoencoder epochs [default: {D.train.epochs_ae}].")] = None,
     epochs_lstm: Annotated[Optional[int], typer.Option(help=f"LSTM epochs [default: {D.train.epochs_lstm}].")] = None,
+    model: Annotated[Optional[str], typer.Option(help=f"Latent model: window (the paper's LSTM over the last --history samples) or stream (an LSTM that carries its state through the whole stream) [default: {D.train.model}].")] = None,
     history: Annotated[Optional[int], typer.Option(help=f"Stretch samples the LSTM sees [default: {D.train.history}].")] = None,
     include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].", show_default=False)] = None,
     latent: Annotated[Optional[int], typer.Option(help=f"Latent features of the autoencoder [default: {D.train.latent}].")] = None,
@@ -150,7 +151,7 @@ def train(
     """
     from softarm_cli.tables import metrics_table
 
-    overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.history": history,
+    overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.model": model, "train.history": history,
                  "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
     result = train_with_progress(recordings, cfg, out_path, resume=resume, force=force, spawn=spawn, rrd=rrd,

@@ -24,6 +24,10 @@ def metrics_table(metrics: dict[str, Any]) -> Table:
     scores_row(table, "autoencoder, test segment", metrics["autoencoder_test"])
     for key, label in ROWS.items():
         scores_row(table, f"{label}, last 5 %", metrics["imagination"][key])
+    if "validation" in metrics:
+        count = len(metrics["validation"]["recordings"])
+        for key, label in ROWS.items():
+            scores_row(table, f"{label}, {count} held-out recordings", metrics["validation"][key])
     mse = metrics["lstm_latent_mse"]
     table.caption = f"LSTM latent MSE (normalised): test {mse['test']:.3f}, imagination {mse['imagine']:.3f}"
     return table
@@ -43,6 +47,9 @@ def replay_table(metrics: dict[str, Any]) -> Table:
     for key, label in REPLAY_ROWS.items():
         if metrics.get(key) is not None:
             scores_row(table, label, metrics[key])
+    trust = metrics["confidence"]
+    table.caption = (f"confidence: mean {trust['mean']:.2f}, Spearman correlation with the frames' IoU "
+                     f"{trust['spearman_with_iou']:.2f}")
     return table
 
 
@@ -60,4 +67,8 @@ def suite_table(evaluation: dict[str, Any]) -> Table:
     mean = evaluation["mean"]
     table.add_row("mean of families", "", f"{mean['iou']:.3f}", f"{mean['bce']:.4f}", f"{mean['tip_error_mm']:.1f}",
                   f"{mean['skill']:.2f}", "", "", "", "")
+    trust = evaluation["confidence"]
+    table.caption = (f"confidence over {trust['frames']} frames: Spearman correlation with IoU {trust['spearman']:.2f}; "
+                     f"IoU of the {trust['least_trusted_share']:.0%} least trusted {trust['least_trusted_iou']:.3f}, "
+                     f"of the rest {trust['rest_iou']:.3f}")
     return table

@@ -33,3 +33,13 @@ def tiny_checkpoint(recordings, tmp_path_factory):
 
     folder = tmp_path_factory.mktemp("ckpt")
     return train([recordings / "s0.mcap"], load_config(overrides=TINY), folder / "tiny.pt", rrd=folder / "tiny.rrd")
+
+
+@pytest.fixture(scope="session")
+def tiny_stream_checkpoint(recordings, tmp_path_factory):
+    """The same few seconds of training for the stream model."""
+    from softarm.learn.run import train
+
+    folder = tmp_path_factory.mktemp("ckpt_stream")
+    return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "stream"}),
+                 folder / "tiny_stream.pt")

@@ -97,6 +97,10 @@ class TrainConfig:
     latent: int
     history: int
     include_current: bool
+    model: str
+    sequence: int
+    streams: int
+    validation_recordings: float
     epochs_ae: int
     epochs_lstm: int
     max_steps_ae: int

@@ -1,7 +1,8 @@
 """Writes a replay's imagination as MCAP: any MCAP reader shows it beside the source recording.
 
 `/imagination/image`: foxglove.RawImage, mono8, pixel probability x 255; `/imagination/iou`: JSON
-(jsonschema) with the frame's IoU against the camera. Log times equal the source frames' times, so
+(jsonschema) with the frame's IoU against the camera; `/imagination/confidence`: JSON with the model's
+own trust in the frame, which a robot would have without a camera. Log times equal the source frames' times, so
 both files line up on one timeline; metadata `softarm.imagination` names the checkpoint and the
 source recording (with their SHA-256 fingerprints).
 """
@@ -21,25 +22,32 @@ if TYPE_CHECKING:
 
 IMAGE = "/imagination/image"
 IOU = "/imagination/iou"
+CONFIDENCE = "/imagination/confidence"
 FORMAT = "softarm-imagination/1"
 META = "softarm.imagination"
 IOU_SCHEMA = ("softarm.ImaginationIoU", json_schema(
     "softarm.ImaginationIoU", "Intersection over union of the imagined frame (thresholded at 0.5) and the camera frame",
     {"iou": {"type": "number", "minimum": 0, "maximum": 1}, "blind": {"type": "boolean",
                                                                        "description": "camera blacked out"}}))
+CONFIDENCE_SCHEMA = ("softarm.ImaginationConfidence", json_schema(
+    "softarm.ImaginationConfidence", "How far the model trusts its imagined frame: 1 / (1 + its own estimate of the "
+    "mean squared error of the normalised latent); 0.5 means as far off as the mean frame's code",
+    {"confidence": {"type": "number", "exclusiveMinimum": 0, "maximum": 1}}))
 
 
 def write_imagination(result: "Replay", path: Union[str, Path], imagined_bytes: np.ndarray) -> Path:
     """One message per imagined frame on each topic (`imagined_bytes`: the frames as grey bytes);
     nothing is left behind if writing fails."""
-    mcap = McapFile(Path(path), (IMAGE,), {IOU: IOU_SCHEMA})
+    mcap = McapFile(Path(path), (IMAGE,), {IOU: IOU_SCHEMA, CONFIDENCE: CONFIDENCE_SCHEMA})
     try:
         frames = np.flatnonzero(result.predicted)
         stamps = [int(round(result.times[k] * 1e9)) for k in frames]
         mcap.add_frames(stamps, {
             IMAGE: mcap.images(imagined_bytes[frames], stamps),
             IOU: [orjson.dumps({"t": ns / 1e9, "iou": float(result.iou[k]), "blind": bool(result.blind[k])})
-                  for ns, k in zip(stamps, frames)]})
+                  for ns, k in zip(stamps, frames)],
+            CONFIDENCE: [orjson.dumps({"t": ns / 1e9, "confidence": float(result.confidence[k])})
+                         for ns, k in zip(stamps, frames)]})
         source = result.recording.path
         return mcap.close({META: {
             "format": FORMAT, "checkpoint": str(result.checkpoint), "checkpoint_sha256": fingerprint(result.checkpoint),

@@ -15,7 +15,7 @@ from softarm.learn.checkpoint import checkpoint_config, load_checkpoint
 from softarm.imagine.blind import blind_mask, fused_scores
 from softarm.learn.imaginer import Imaginer
 from softarm.learn.fits import check_recording_fits_checkpoint
-from softarm.learn.metrics import frame_scores, summarise
+from softarm.learn.metrics import frame_scores, spearman, summarise
 from softarm.record.reader import Recording, read_model, read_recording
 from softarm.sense.reading import needs_nodes, sensed_stretch
 
@@ -28,6 +28,7 @@ class Replay:
     imagined: np.ndarray   # (T, H, W) probabilities; 0 where nothing is imagined yet
     predicted: np.ndarray  # (T,) bool: frames with an imagination (all but the first history (+1) ones)
     iou: np.ndarray        # (T,) imagination IoU per frame, NaN where nothing is imagined
+    confidence: np.ndarray  # (T,) the model's trust in each imagined frame, in (0, 1]; NaN where nothing is imagined
     blind: np.ndarray      # (T,) bool: camera blacked out
     fused: np.ndarray      # (T, H, W): the camera where it sees, the imagination where it is blind
     nodes_px: Optional[np.ndarray]  # (T, N, 2) node positions in pixel coordinates [u, v], if read
@@ -66,11 +67,14 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     rec, stretch, sensing = read_as_trained(state, checkpoint, Path(recording), sensor_noise, nodes)
     mask = blind_mask(rec.times, blind)
     imaginer = Imaginer.from_checkpoint(state)
-    targets, probs = imaginer.imagine(stretch)
+    prediction, probs = imaginer.imagine(stretch)
+    targets = prediction.targets
     imagined = np.zeros(rec.frames.shape, np.float32)
     imagined[targets] = probs
     predicted = np.zeros(len(rec.times), bool)
     predicted[targets] = True
+    confidence = np.full(len(rec.times), np.nan)
+    confidence[targets] = prediction.confidence
     fused = rec.frames.astype(np.float32)
     fused[mask] = imagined[mask]
     M = rec.world_to_pixel
@@ -84,7 +88,10 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
            for key, subset in (("imagination", predicted), ("imagination_last_5s", last),
                                ("imagination_blind", mask), ("imagination_seeing", ~mask))},
         "fused": summarise(fused_scores(imagination, rec.frames, mask)),
+        "confidence": {"mean": float(prediction.confidence.mean()),
+                       "spearman_with_iou": spearman(prediction.confidence, iou[targets])},
     }
     return Replay(recording=rec, checkpoint=checkpoint, stretch=stretch, imagined=imagined, predicted=predicted, iou=iou,
+                  confidence=confidence,
                   blind=mask, fused=fused, metrics=metrics,
                   nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if nodes else None)

@@ -16,7 +16,7 @@ from typing import Callable
 import torch
 import torch.nn.functional as F
 
-from softarm.learn.models import StretchToLatent
+from softarm.learn.models import latent_model
 from softarm.learn.train import schedules
 from softarm.learn.train_state import TrainState
 
@@ -56,7 +56,8 @@ def _autoencoder_step(state: TrainState) -> float:
 
 
 def _lstm_step(state: TrainState) -> float:
-    t = state.config.train
-    network = StretchToLatent(state.data.sensor_count, t.lstm_hidden, t.latent)  # a stand-in of the same size
-    windows = torch.zeros(t.batch_lstm, t.history, state.data.sensor_count)
-    return _seconds_per_step(network, lambda: network(windows).square().mean())
+    """A stand-in of the latent model's size, on a batch of its real shape: windows, or chunks of streams."""
+    t, sensors = state.config.train, state.data.sensor_count
+    network = latent_model(t.model, sensors, t.lstm_hidden, t.latent)
+    batch = torch.zeros(t.batch_lstm, t.history, sensors) if t.model == "window" else torch.zeros(t.streams, t.sequence, sensors)
+    return _seconds_per_step(network, lambda: network(batch)[0].square().mean())

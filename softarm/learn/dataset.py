@@ -2,7 +2,9 @@
 
 Each recording is split on its own: the first `train_fraction` of its frames train, the next
 `test_fraction` test the autoencoder (and validate the LSTM), the rest is the imagination segment.
-Stretch windows never straddle a split, so no test target is predicted from training samples.
+Stretch windows never straddle a split, so no test target is predicted from training samples. A
+corpus also keeps whole recordings out (`validation_recordings`): their test segment starts at their
+first frame, so validation covers motions the networks never saw.
 """
 
 from dataclasses import dataclass, field
@@ -19,6 +21,8 @@ from softarm.learn.fits import check_fits
 from softarm.record.reader import read_recording
 from softarm.sense.reading import needs_nodes, sensed_stretch
 
+MIN_CORPUS = 4  # recordings; more make a corpus, which keeps some out for validation
+
 
 @dataclass(frozen=True)
 class RunData:
@@ -29,6 +33,7 @@ class RunData:
     stretch: np.ndarray         # (T, P) float32, m
     times: np.ndarray           # (T,) s
     bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
+    held_out: bool = False      # a validation recording: nothing of it trains (b0 = 0)
 
     def segment(self, name: str) -> tuple[int, int]:
         b0, b1 = self.bounds
@@ -113,15 +118,18 @@ def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing:
     if not paths:
         raise RecordingError("give at least one recording")
     sequences = []
+    held_out = validation_indices(len(paths), train.validation_recordings)
     for path in map(Path, paths):
         rec = read_recording(path, nodes=needs_nodes(sensing))
         if int(rec.model.get("seed", 0)) >= HELD_OUT_SEED_BASE:
             raise RecordingError(f"{path.name} was made from seed {rec.model['seed']}, one of the held-out suite's "
                                  f"(>= {HELD_OUT_SEED_BASE}): train on seeds below it")
         frames = rec.frames if cache is None else on_disk(cache / f"{len(sequences)}.u8", [rec.frames])
+        bounds = split_bounds(len(rec.times), train)
+        validation = len(sequences) in held_out
         seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=frames,
                       stretch=sensed_stretch(rec, sensing).astype(np.float32), times=rec.times,
-                      bounds=split_bounds(len(rec.times), train))
+                      bounds=(0, bounds[1]) if validation else bounds, held_out=validation)
         if sequences:
             first = sequences[0]
             check_fits(seq.name, seq.frames.shape[1:], seq.stretch.shape[1], first.frames.shape[1:],
@@ -129,6 +137,15 @@ def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing:
         check_segments(seq, train)
         sequences.append(seq)
     return Dataset(sequences, cache)
+
+
+def validation_indices(count: int, share: float) -> set[int]:
+    """Recordings kept out of training: `share` of a corpus of more than MIN_CORPUS, evenly spaced over its
+    list (which runs group by group, so they come from groups across the corpus); none of a smaller set."""
+    if count <= MIN_CORPUS or share <= 0:
+        return set()
+    kept = max(1, round(count * share))
+    return {int((i + 0.5) * count / kept) for i in range(kept)}
 
 
 def on_disk(path: Path, parts: Sequence[np.ndarray]) -> np.ndarray:

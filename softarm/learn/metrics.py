@@ -71,3 +71,15 @@ def summarise(per_frame: dict[str, np.ndarray], mask: np.ndarray | None = None) 
 def image_scores(prob: np.ndarray, truth: np.ndarray, pixels_per_metre: float) -> dict[str, float]:
     """BCE, IoU, Dice and tip error (mm) averaged over all frames."""
     return summarise(frame_scores(prob, truth, pixels_per_metre))
+
+
+def spearman(a: np.ndarray, b: np.ndarray) -> float:
+    """Rank correlation, ties sharing their mean rank (NaN when either is constant)."""
+    ra, rb = average_ranks(a), average_ranks(b)
+    return float(np.corrcoef(ra, rb)[0, 1]) if ra.std() > 0 and rb.std() > 0 else float("nan")
+
+
+def average_ranks(x: np.ndarray) -> np.ndarray:
+    _, inverse, counts = np.unique(x, return_inverse=True, return_counts=True)
+    first = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    return (first + (counts - 1) / 2)[inverse]

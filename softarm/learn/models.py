@@ -10,6 +10,8 @@ plateau within one epoch. The channels are few and no full-resolution layer is h
 minutes on 2 CPU cores, and replay must decode whole recordings quickly (README has the timings).
 """
 
+from typing import Optional
+
 import torch
 from torch import nn
 
@@ -50,15 +52,58 @@ class Autoencoder(nn.Module):
         return self.decode(self.encode(frames))
 
 
+class ErrorHead(nn.Module):
+    """Predicts the log of each latent feature's squared error from the recurrent state it reads, detached:
+    learning to say how wrong it is never changes what the model predicts. Its prediction is the
+    imagined frame's confidence (softarm.learn.confidence)."""
+
+    def __init__(self, hidden: int, outputs: int):
+        super().__init__()
+        self.net = nn.Sequential(nn.Linear(hidden, 64), nn.ReLU(), nn.Linear(64, outputs))
+
+    def forward(self, states: torch.Tensor) -> torch.Tensor:
+        return self.net(states.detach())
+
+
 class StretchToLatent(nn.Module):
-    """One LSTM layer over a window of normalised stretch samples; its last state predicts the latent."""
+    """The paper's model: one LSTM layer over a window of normalised stretch samples, started afresh for
+    every window; its last state predicts the latent."""
 
     def __init__(self, sensors: int, hidden: int, outputs: int):
         super().__init__()
         self.lstm = nn.LSTM(sensors, hidden, num_layers=1, batch_first=True)
         self.head = nn.Linear(hidden, outputs)
+        self.error = ErrorHead(hidden, outputs)
 
-    def forward(self, windows: torch.Tensor) -> torch.Tensor:
-        """(B, history, sensors) -> (B, outputs)."""
+    def forward(self, windows: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """(B, history, sensors) -> predicted latents (B, outputs) and their log squared errors (B, outputs)."""
         states, _ = self.lstm(windows)
-        return self.head(states[:, -1])
+        last = states[:, -1]
+        return self.head(last), self.error(last)
+
+
+State = tuple[torch.Tensor, torch.Tensor]
+
+
+class StreamToLatent(nn.Module):
+    """The arm's memory: one LSTM layer that reads the stream sample by sample and carries its state from
+    the first sample on, so a motion seen seconds ago still shapes today's answer. Every sample's state
+    predicts a latent."""
+
+    def __init__(self, sensors: int, hidden: int, outputs: int):
+        super().__init__()
+        self.lstm = nn.LSTM(sensors, hidden, num_layers=1, batch_first=True)
+        self.head = nn.Linear(hidden, outputs)
+        self.error = ErrorHead(hidden, outputs)
+
+    def forward(self, samples: torch.Tensor, state: Optional[State] = None
+                ) -> tuple[torch.Tensor, torch.Tensor, State]:
+        """(B, T, sensors) samples, from `state` (None: the stream's start) -> latents (B, T, outputs),
+        their log squared errors (B, T, outputs) and the state after the last sample."""
+        states, state = self.lstm(samples, state)
+        return self.head(states), self.error(states), state
+
+
+def latent_model(kind: str, sensors: int, hidden: int, outputs: int) -> nn.Module:
+    """The network `train.model` names."""
+    return {"window": StretchToLatent, "stream": StreamToLatent}[kind](sensors, hidden, outputs)

@@ -19,7 +19,7 @@ from softarm.learn.baselines import Baselines
 from softarm.learn.codes import LatentCodes
 from softarm.learn.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
 from softarm.learn.dataset import Dataset, load_dataset
-from softarm.learn.models import Autoencoder, StretchToLatent
+from softarm.learn.models import Autoencoder, latent_model
 from softarm.learn.scaler import Scaler
 
 @dataclass
@@ -28,7 +28,7 @@ class TrainState:
     data: Dataset
     autoencoder: Autoencoder
     ae_optimizer: torch.optim.Optimizer
-    lstm: Optional[StretchToLatent] = None
+    lstm: Optional[torch.nn.Module] = None   # train.model's network
     lstm_optimizer: Optional[torch.optim.Optimizer] = None
     latent_scaler: Optional[Scaler] = None
     stretch_scaler: Optional[Scaler] = None
@@ -47,11 +47,11 @@ class TrainState:
         return self._codes
 
     def make_lstm(self, latent_scaler: Scaler, stretch_scaler: Scaler) -> None:
-        """The LSTM and its optimiser, seeded on their own so that resume rebuilds the same network."""
+        """The latent model and its optimiser, seeded on their own so that resume rebuilds the same network."""
         t = self.config.train
         self.latent_scaler, self.stretch_scaler = latent_scaler, stretch_scaler
         torch.manual_seed(t.seed + 1)
-        self.lstm = StretchToLatent(self.data.sensor_count, t.lstm_hidden, latent_scaler.kept)
+        self.lstm = latent_model(t.model, self.data.sensor_count, t.lstm_hidden, latent_scaler.kept)
         self.lstm_optimizer = torch.optim.Adam(self.lstm.parameters(), lr=t.lr_lstm)
 
     def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None,

@@ -14,10 +14,10 @@ from typing import Any, Iterator, Optional, Union
 import numpy as np
 import orjson
 from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
-from mcap.records import Channel, Chunk, Message, Metadata
-from mcap.stream_reader import StreamReader, breakup_chunk
+from mcap.records import Channel, Message, Metadata
 
 from softarm.errors import RecordingError
+from softarm.record.scan import file_records
 from softarm.record.format import (EXCITATION, FORMAT, FORMAT_NAME, FORMAT_VERSION_NUMBER, IMAGE, META_MODEL,
                                       META_RUN, NODES, STRETCH, TOPICS)
 
@@ -150,26 +150,17 @@ def _records(path: Path, stop_after_model: bool = False) -> Iterator[Any]:
                 raise RecordingError(f"{path} is empty (0 bytes): not a recording")
             if head != MCAP_MAGIC:
                 raise RecordingError(f"{path} is not an MCAP file (it does not start with the MCAP magic bytes)")
-            f.seek(0)
-            reader = StreamReader(f, emit_chunks=True)
-            stream = iter(reader.records)
+            stream = file_records(f, MCAP_MAGIC)
             while True:
                 try:
                     record = next(stream)
                 except StopIteration:
                     return
-                except Exception as e:  # McapError, struct.error, ...: the bytes stop making sense here
+                except Exception as e:  # struct.error, McapError, zstd or CRC error: the bytes stop making sense here
                     raise _Truncated() from e
-                if isinstance(record, Chunk):
-                    try:
-                        inner = breakup_chunk(record, validate_crc=True)
-                    except Exception as e:  # a damaged chunk: zstd or CRC error
-                        raise _Truncated() from e
-                    yield from inner
-                else:
-                    yield record
-                    if stop_after_model and isinstance(record, Metadata) and record.name == META_MODEL:
-                        return
+                yield record
+                if stop_after_model and isinstance(record, Metadata) and record.name == META_MODEL:
+                    return
     except FileNotFoundError:
         raise RecordingError(f"recording {path} not found") from None
     except IsADirectoryError:

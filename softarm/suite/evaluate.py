@@ -4,7 +4,8 @@ Per family, over every imagined frame of its recordings: IoU, BCE and tip error 
 mean training frame, of the ridge map from the same stretch windows (both fitted at training time
 and kept in the checkpoint) and of the AE ceiling (decode the true frame's own code: the best any
 latent predictor can do). Skill = (IoU - IoU_mean) / (IoU_ceiling - IoU_mean): the share of the
-reachable gain above the trivial answer, which raw IoU hides where the arm hardly moves.
+reachable gain above the trivial answer, which raw IoU hides where the arm hardly moves. Over every
+frame of the suite, the confidence figures say how well the model's own trust ranks its frames.
 """
 
 from pathlib import Path
@@ -15,6 +16,7 @@ import numpy as np
 from softarm.suite.manifest import SuiteCase, read_suite
 
 ANSWERS = ("model", "mean_frame", "ridge", "ae_ceiling")
+LEAST_TRUSTED = 0.1  # share of frames whose IoU the confidence figures single out
 Progress = Callable[[int, int], None]
 
 
@@ -31,14 +33,20 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
     state = load_checkpoint(checkpoint)
     scorer = CaseScorer(state, Path(checkpoint))
     per_family: dict[str, dict[str, list[dict[str, np.ndarray]]]] = {f: {a: [] for a in ANSWERS} for f in suite.families}
+    confidence, iou = [], []
     for done, case in enumerate(suite.cases, 1):
-        for answer, scores in scorer.score(case, sensor_noise).items():
-            per_family[case.family][answer].append(scores)
+        scores, trust = scorer.score(case, sensor_noise)
+        for answer, answer_scores in scores.items():
+            per_family[case.family][answer].append(answer_scores)
+        confidence.append(trust)
+        iou.append(scores["model"]["iou"])
         if progress:
             progress(done, len(suite.cases))
     families = {name: family_scores(parts) for name, parts in per_family.items()}
     return {"suite": suite.version, "checkpoint": str(checkpoint), "families": families,
-            "mean": mean_over_families(families), "probes": suite.probes}
+            "mean": mean_over_families(families), "confidence": confidence_scores(np.concatenate(confidence),
+                                                                                   np.concatenate(iou)),
+            "probes": suite.probes}
 
 
 class CaseScorer:
@@ -51,8 +59,9 @@ class CaseScorer:
         self.imaginer = Imaginer.from_checkpoint(state)
         self.baselines = Baselines.from_checkpoint(state)
 
-    def score(self, case: SuiteCase, sensor_noise: Optional[dict[str, Any]]) -> dict[str, dict[str, np.ndarray]]:
-        """Per-frame scores of every answer on one recording."""
+    def score(self, case: SuiteCase, sensor_noise: Optional[dict[str, Any]]
+              ) -> tuple[dict[str, dict[str, np.ndarray]], np.ndarray]:
+        """Per-frame scores of every answer on one recording, and the model's confidence in each frame."""
         from softarm.imagine.replay import read_as_trained
         from softarm.learn.baselines import ridge_predict
         from softarm.learn.codes import encode_frames
@@ -66,10 +75,11 @@ class CaseScorer:
         ridge = ridge_predict(self.baselines.ridge, imaginer.stretch_scaler.forward(windows))
         ceiling = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, truth))
         ppm = rec.pixels_per_metre
-        answers = {"model": imaginer.decode(imaginer.latents(windows)), "ridge": imaginer.decode(ridge),
+        prediction = imaginer.predict(stretch)
+        answers = {"model": imaginer.decode(prediction.latents), "ridge": imaginer.decode(ridge),
                    "ae_ceiling": imaginer.decode(ceiling),
                    "mean_frame": np.broadcast_to(self.baselines.mean_frame, truth.shape)}
-        return {name: frame_scores(probs, truth, ppm) for name, probs in answers.items()}
+        return {name: frame_scores(probs, truth, ppm) for name, probs in answers.items()}, prediction.confidence
 
 
 def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, Any]:
@@ -87,6 +97,20 @@ def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, An
     row["baselines"]["ridge"]["skill"] = skill(means["ridge"]["iou"], means["mean_frame"]["iou"],
                                                means["ae_ceiling"]["iou"])
     return row
+
+
+def confidence_scores(confidence: np.ndarray, iou: np.ndarray) -> dict[str, float]:
+    """How well the confidence ranks imagined frames by their true IoU, over every frame of the suite: the
+    Spearman correlation, and the mean IoU of the least-trusted LEAST_TRUSTED of frames against the rest's."""
+    from softarm.learn.metrics import spearman
+
+    order = np.argsort(confidence, kind="stable")
+    low = order[:max(1, round(len(order) * LEAST_TRUSTED))]
+    rest = np.ones(len(order), bool)
+    rest[low] = False
+    return {"spearman": spearman(confidence, iou), "least_trusted_iou": float(iou[low].mean()),
+            "rest_iou": float(iou[rest].mean()) if rest.any() else float("nan"), "least_trusted_share": LEAST_TRUSTED,
+            "frames": int(len(iou))}
 
 
 def skill(iou: float, floor: float, ceiling: float) -> float:

@@ -16,13 +16,14 @@ IMAGES = ("camera", "imagined", "difference", "fused")
 
 
 def replay_blueprint() -> rrb.Blueprint:
-    """Camera | imagined | difference | fused on top; stretch, excitation and IoU below, on sim_time."""
+    """Camera | imagined | difference | fused on top; stretch, excitation, IoU and confidence below, on sim_time."""
     return rrb.Blueprint(
         rrb.Vertical(
             rrb.Horizontal(*(rrb.Spatial2DView(origin=name, name=name) for name in IMAGES)),
             rrb.Horizontal(rrb.TimeSeriesView(origin="signals/stretch", name="stretch (m)"),
                            rrb.TimeSeriesView(origin="signals/excitation", name="excitation (m)"),
-                           rrb.TimeSeriesView(origin="signals/iou", name="imagination IoU")),
+                           rrb.TimeSeriesView(origin="signals/iou", name="imagination IoU"),
+                           rrb.TimeSeriesView(origin="signals/confidence", name="confidence")),
             row_shares=[3, 2],
         ),
         rrb.TimePanel(timeline="sim_time"),
@@ -74,7 +75,9 @@ def _log_signals(rec: rr.RecordingStream, result: Any) -> None:
     rec.send_columns("signals/excitation", indexes=times,
                      columns=rr.Scalars.columns(scalars=result.recording.displacement))
     seen = result.predicted
-    rec.send_columns("signals/iou", indexes=[rr.TimeColumn("sim_time", duration=result.times[seen])],
-                     columns=rr.Scalars.columns(scalars=result.iou[seen]))
+    imagined_times = [rr.TimeColumn("sim_time", duration=result.times[seen])]
+    rec.send_columns("signals/iou", indexes=imagined_times, columns=rr.Scalars.columns(scalars=result.iou[seen]))
+    rec.send_columns("signals/confidence", indexes=imagined_times,
+                     columns=rr.Scalars.columns(scalars=result.confidence[seen]))
     rec.send_columns("signals/blind", indexes=times, columns=rr.Scalars.columns(
         scalars=result.blind.astype(np.float64)))

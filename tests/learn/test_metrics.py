@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from softarm.learn.baselines import ridge_fit, ridge_predict
 from softarm.learn.metrics import frame_scores, image_scores, summarise, tip_pixels
@@ -47,3 +48,14 @@ def test_ridge_recovers_a_linear_map():
     y = x.reshape(400, -1) @ w + 0.5
     model = ridge_fit(x, y, alpha=1e-8)
     np.testing.assert_allclose(ridge_predict(model, x), y, atol=1e-5)
+
+
+def test_spearman_matches_the_pearson_correlation_of_ranks_and_shares_tied_ranks():
+    from softarm.learn.metrics import average_ranks, spearman
+
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=200), rng.normal(size=200)
+    ranks = lambda x: np.argsort(np.argsort(x)).astype(float)  # noqa: E731 (no ties: plain ranks)
+    assert spearman(a, b) == pytest.approx(np.corrcoef(ranks(a), ranks(b))[0, 1])
+    assert spearman(a, np.exp(a)) == pytest.approx(1.0) and spearman(a, -a) == pytest.approx(-1.0)
+    assert average_ranks(np.array([5.0, 1.0, 5.0, 3.0])).tolist() == [2.5, 0.0, 2.5, 1.0]

@@ -1,6 +1,8 @@
-"""Online imagination gives, sample by sample, the frames a batch replay imagines from the same signals."""
+"""Online imagination gives, sample by sample, the frames and confidences a batch replay gives from the
+same signals, for either model."""
 
 import numpy as np
+import pytest
 
 from softarm.learn.checkpoint import load_checkpoint
 from softarm.learn.imaginer import Imaginer
@@ -8,17 +10,30 @@ from softarm.learn.stream import StreamingImaginer
 from softarm.record.reader import read_recording
 
 
-def test_streamed_frames_equal_the_batch_replays(recordings, tiny_checkpoint):
-    imaginer = Imaginer.from_checkpoint(load_checkpoint(tiny_checkpoint.checkpoint))
+@pytest.mark.parametrize("fixture", ["tiny_checkpoint", "tiny_stream_checkpoint"])
+def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
+    imaginer = Imaginer.from_checkpoint(load_checkpoint(request.getfixturevalue(fixture).checkpoint))
     stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch
-    targets, batch = imaginer.imagine(stretch)
+    prediction, batch = imaginer.imagine(stretch)
     stream = StreamingImaginer(imaginer)
     streamed = {}
     for sample in stretch:
         out = stream.step(sample)
         if out is not None:
-            streamed[out[0]] = out[1]
+            streamed[out.frame] = out
+    targets = prediction.targets
     assert min(streamed) == targets[0] and max(streamed) == len(stretch)  # one frame past the last sample
-    np.testing.assert_allclose(np.stack([streamed[k] for k in targets]), batch, atol=1e-5)
+    np.testing.assert_allclose(np.stack([streamed[k].probabilities for k in targets]), batch, atol=1e-5)
+    np.testing.assert_allclose([streamed[k].confidence for k in targets], prediction.confidence, rtol=1e-5)
     stream.reset()
     assert stream.step(stretch[0]) is None and stream.samples == 1
+
+
+@pytest.mark.parametrize("fixture, remembers", [("tiny_checkpoint", False), ("tiny_stream_checkpoint", True)])
+def test_only_the_stream_model_remembers_samples_older_than_its_window(recordings, fixture, remembers, request):
+    imaginer = Imaginer.from_checkpoint(load_checkpoint(request.getfixturevalue(fixture).checkpoint))
+    stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch
+    changed = stretch.copy()
+    changed[:100] += 1e-4  # the first second: frame 110's 6-sample window starts 4 samples later
+    frame_110 = [imaginer.predict(s).latents[110 - 6] for s in (stretch, changed)]
+    assert (np.abs(frame_110[0] - frame_110[1]).max() > 1e-6) == remembers

@@ -37,9 +37,10 @@ def test_checkpoint_loads_with_weights_only_and_rebuilds_the_imaginer(tiny_check
     assert state["recordings"][0]["name"] == "s0.mcap" and len(state["recordings"][0]["sha256"]) == 16
     assert state["image_shape"] == [84, 52] and state["sensor_count"] == 4
     stretch = np.random.default_rng(0).normal(0, 1e-3, (20, 4))
-    targets, probs = imaginer.imagine(stretch)
-    assert targets.tolist() == list(range(6, 20)) and probs.shape == (14, 84, 52)
+    prediction, probs = imaginer.imagine(stretch)
+    assert prediction.targets.tolist() == list(range(6, 20)) and probs.shape == (14, 84, 52)
     assert probs.min() >= 0 and probs.max() <= 1
+    assert ((prediction.confidence > 0) & (prediction.confidence <= 1)).all()
 
 
 def test_feature_filter_drops_constant_features_and_normalisation_round_trips():

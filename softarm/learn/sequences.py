@@ -1,0 +1,92 @@
+"""Training data of the stream model: stretches of recording read side by side, in chunks.
+
+Truncated back-propagation through time: each stretch is read from its first sample in chunks of
+`sequence` samples; the state carries from chunk to chunk (so the model learns to use what it
+remembers), while gradients stop at the chunk's start (so a step costs one chunk). A recording's
+training segment starts a stretch of its own, from the stream's start, as replay reads it. With fewer
+recordings than `streams`, each segment is cut into pieces read side by side; a piece that starts
+mid-recording first reads one chunk of the samples before it, unscored, so its state has warmed up
+before its answers count.
+"""
+
+import math
+from dataclasses import dataclass
+from typing import Iterator
+
+import numpy as np
+import torch
+
+from softarm.learn.codes import LatentCodes
+from softarm.learn.dataset import Dataset
+from softarm.learn.scaler import Scaler
+
+
+@dataclass(frozen=True)
+class Piece:
+    recording: int
+    start: int    # first sample read
+    scored: int   # first sample whose answer counts
+    end: int      # one past the last sample read; sample k answers for frame k + lead
+
+
+@dataclass(frozen=True)
+class Group:
+    """Pieces read side by side: normalised samples, normalised target latents and the scored mask."""
+    samples: torch.Tensor   # (G, L, P)
+    targets: torch.Tensor   # (G, L, K)
+    scored: torch.Tensor    # (G, L) bool
+
+    def chunks(self, sequence: int) -> Iterator[tuple[torch.Tensor, torch.Tensor, torch.Tensor]]:
+        for first in range(0, self.samples.shape[1], sequence):
+            part = slice(first, first + sequence)
+            yield self.samples[:, part], self.targets[:, part], self.scored[:, part]
+
+
+def pieces(data: Dataset, streams: int, warmup: int, lead: int) -> list[Piece]:
+    """Every recording's training segment, cut into equal pieces so that at least `streams` are read."""
+    segments = [(n, seq.segment("train")[1] - lead) for n, seq in enumerate(data.sequences)]
+    segments = [(n, end) for n, end in segments if end > 0]
+    cuts = math.ceil(streams / max(1, len(segments)))
+    out = []
+    for n, end in segments:
+        bounds = np.linspace(0, end, min(cuts, end) + 1).round().astype(int)
+        out.extend(Piece(n, max(0, a - warmup), a, b) for a, b in zip(bounds[:-1], bounds[1:]))
+    return out
+
+
+def partition(data: Dataset, streams: int, warmup: int, lead: int) -> list[list[Piece]]:
+    """The pieces in groups of about `streams` (as even as they go)."""
+    every = pieces(data, streams, warmup, lead)
+    return [[every[i] for i in part] for part in np.array_split(np.arange(len(every)), math.ceil(len(every) / streams))]
+
+
+def scored_chunks(part: list[Piece], sequence: int) -> int:
+    """Chunks of a group with an answer that counts: its optimisation steps (warm-up-only chunks are read
+    without one)."""
+    length = max(p.end - p.start for p in part)
+    return sum(any(p.scored - p.start < first + sequence and first < p.end - p.start for p in part)
+               for first in range(0, length, sequence))
+
+
+def steps_per_epoch(data: Dataset, streams: int, sequence: int, warmup: int, lead: int) -> int:
+    return sum(scored_chunks(part, sequence) for part in partition(data, streams, warmup, lead))
+
+
+def groups(data: Dataset, codes: LatentCodes, latent: Scaler, stretch: Scaler, streams: int, warmup: int,
+           lead: int) -> list[Group]:
+    """Every group, padded to its longest piece."""
+    return [_group(data, codes, latent, stretch, part, lead) for part in partition(data, streams, warmup, lead)]
+
+
+def _group(data: Dataset, codes: LatentCodes, latent: Scaler, stretch: Scaler, part: list[Piece], lead: int) -> Group:
+    length = max(p.end - p.start for p in part)
+    samples = np.zeros((len(part), length, data.sensor_count), np.float32)
+    targets = np.zeros((len(part), length, latent.kept), np.float32)
+    scored = np.zeros((len(part), length), bool)
+    for g, p in enumerate(part):
+        n, size = p.recording, p.end - p.start
+        samples[g, :size] = stretch.forward(data.sequences[n].stretch[p.start:p.end])
+        frames = np.arange(p.start, p.end) + lead
+        targets[g, :size] = latent.forward(codes.of(np.stack([np.full(size, n), frames], axis=1)))
+        scored[g, p.scored - p.start:size] = True
+    return Group(torch.from_numpy(samples), torch.from_numpy(targets), torch.from_numpy(scored))

@@ -1,0 +1,43 @@
+"""A corpus keeps whole recordings out of training, and its metrics score them apart."""
+
+import pytest
+
+from softarm.config import load_config
+from softarm.learn.dataset import load_dataset, validation_indices
+from conftest import TINY
+
+
+def test_validation_recordings_are_spread_over_a_corpus_and_none_of_a_few():
+    assert validation_indices(4, 0.1) == set() and validation_indices(64, 0.0) == set()
+    assert validation_indices(5, 0.1) == {2}
+    kept = sorted(validation_indices(64, 0.1))
+    assert len(kept) == 6 and kept[0] < 11 and kept[-1] > 53
+
+
+@pytest.fixture(scope="module")
+def corpus(tmp_path_factory):
+    from softarm.sim.run import simulate
+
+    folder = tmp_path_factory.mktemp("corpus")
+    simulate(load_config(overrides={"run.duration": 2.0, "run.arms": 5}), folder / "c.mcap")
+    return sorted(folder.glob("*.mcap"))
+
+
+def test_a_held_out_recording_trains_nothing_and_is_validated_whole(corpus):
+    config = load_config()
+    data = load_dataset(corpus, config.train, config.sensing)
+    assert [s.held_out for s in data.sequences] == [False, False, True, False, False]
+    held = data.sequences[2]
+    assert held.segment("train") == (0, 0) and held.segment("test") == (0, 190)
+    assert data.count("train") == 4 * 170
+
+
+def test_training_on_a_corpus_reports_the_held_out_recordings(corpus, tmp_path):
+    from softarm.learn.run import train
+
+    result = train(corpus, load_config(overrides={**TINY, "train.model": "stream", "train.epochs_lstm": 3}),
+                   tmp_path / "c.pt")
+    validation = result.metrics["validation"]
+    assert validation["recordings"] == [corpus[2].name]
+    assert set(validation) >= {"lstm", "ridge", "mean_frame", "ae_ceiling"}
+    assert 0 <= validation["lstm"]["iou"] <= 1
