@@ -17,6 +17,7 @@ from softarm.sim import ARCHS
 from softarm.corpus.build import DEFAULT_ARMS, DEFAULT_DURATION
 from softarm.suite.families import SUITE_VERSION
 from softarm_cli.progress import LazyProgress
+from softarm_cli.study import study
 
 # Plain help (no rich markup): rich would read every "[default: ...]" as a markup tag and drop it,
 # and would show flags as if they took a <bool> value.
@@ -315,6 +316,8 @@ def demo(
         out.print(f"{label:>15}: {path}", markup=False)
     out.print(f"open the timelines with: rerun {outputs['rrd']}", markup=False)
 
+
+app.command()(study)
 
 if __name__ == "__main__":
     sys.exit(app())

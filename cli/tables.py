@@ -56,17 +56,17 @@ def replay_table(metrics: dict[str, Any]) -> Table:
 def suite_table(evaluation: dict[str, Any]) -> Table:
     """One row per family: the model's IoU, BCE, tip error and skill, and the baselines' IoU beside them."""
     table = Table(title=f"{evaluation['suite']}: {evaluation['checkpoint']}")
-    for column in ("family", "frames", "IoU", "BCE", "tip (mm)", "skill", "mean-frame IoU", "ridge IoU",
+    for column in ("family", "frames", "IoU", "BCE", "tip (mm)", "tip median (mm)", "skill", "mean-frame IoU", "ridge IoU",
                    "ridge skill", "AE ceiling IoU"):
         table.add_column(column, justify="left" if column == "family" else "right")
     for name, row in evaluation["families"].items():
         b = row["baselines"]
         table.add_row(name, str(row["frames"]), f"{row['iou']:.3f}", f"{row['bce']:.4f}", f"{row['tip_error_mm']:.1f}",
-                      f"{row['skill']:.2f}", f"{b['mean_frame']['iou']:.3f}", f"{b['ridge']['iou']:.3f}",
+                      f"{row['tip_error_median_mm']:.1f}", f"{row['skill']:.2f}", f"{b['mean_frame']['iou']:.3f}", f"{b['ridge']['iou']:.3f}",
                       f"{b['ridge']['skill']:.2f}", f"{b['ae_ceiling']['iou']:.3f}")
     mean = evaluation["mean"]
     table.add_row("mean of families", "", f"{mean['iou']:.3f}", f"{mean['bce']:.4f}", f"{mean['tip_error_mm']:.1f}",
-                  f"{mean['skill']:.2f}", "", "", "", "")
+                  f"{mean['tip_error_median_mm']:.1f}", f"{mean['skill']:.2f}", "", "", "", "")
     trust = evaluation["confidence"]
     table.caption = (f"confidence over {trust['frames']} frames: Spearman correlation with IoU {trust['spearman']:.2f}; "
                      f"IoU of the {trust['least_trusted_share']:.0%} least trusted {trust['least_trusted_iou']:.3f}, "

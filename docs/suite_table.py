@@ -12,18 +12,29 @@ def number(value: float | None, digits: int) -> str:
     return "–" if value is None else f"{value:.{digits}f}"
 
 
+def tip(row: dict) -> str:
+    """Mean tip error, and the median where the evaluation has it (older ones do not)."""
+    median = row.get("tip_error_median_mm")
+    return number(row["tip_error_mm"], 1) + ("" if median is None else f" / {number(median, 1)}")
+
+
 def main(path: str) -> None:
     evaluation = json.load(open(path))
-    print("| family | frames | IoU | BCE | tip (mm) | skill | mean-frame IoU | ridge IoU (skill) | AE ceiling IoU |")
+    print("| family | frames | IoU | BCE | tip mean / median (mm) | skill | mean-frame IoU | ridge IoU (skill) | AE ceiling IoU |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for name, row in evaluation["families"].items():
         b = row["baselines"]
         print(f"| {name} | {row['frames']} | **{number(row['iou'], 3)}** | {number(row['bce'], 4)} | "
-              f"{number(row['tip_error_mm'], 1)} | {number(row['skill'], 2)} | {number(b['mean_frame']['iou'], 3)} | "
+              f"{tip(row)} | {number(row['skill'], 2)} | {number(b['mean_frame']['iou'], 3)} | "
               f"{number(b['ridge']['iou'], 3)} ({number(b['ridge']['skill'], 2)}) | {number(b['ae_ceiling']['iou'], 3)} |")
     m = evaluation["mean"]
     print(f"| **mean of families** | | **{number(m['iou'], 3)}** | {number(m['bce'], 4)} | "
-          f"{number(m['tip_error_mm'], 1)} | {number(m['skill'], 2)} | | | |")
+          f"{tip(m)} | {number(m['skill'], 2)} | | | |")
+    if "confidence" in evaluation:
+        c = evaluation["confidence"]
+        print(f"\nConfidence over {c['frames']} frames: Spearman correlation with IoU {number(c['spearman'], 2)}; "
+              f"IoU of the {c['least_trusted_share']:.0%} least-trusted frames {number(c['least_trusted_iou'], 3)}, "
+              f"of the rest {number(c['rest_iou'], 3)}.")
 
 
 if __name__ == "__main__":

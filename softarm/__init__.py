@@ -2,7 +2,8 @@
 
 The data path, one stage per subpackage: `arm` (the body as arrays) -> `sim` (Taichi physics and
 camera) -> `record` (MCAP) -> `sense` (what the sensors read) -> `learn` (autoencoder + LSTM) ->
-`imagine` (replay) -> `suite` (held-out evaluation) -> `view` (Rerun, PNG).
+`imagine` (replay) -> `suite` (held-out evaluation) -> `view` (Rerun, PNG); `study` runs grids of
+trainings and evaluations as Ray tasks.
 
 From a notebook::
 
@@ -12,6 +13,7 @@ From a notebook::
     replayed = softarm.replay("arm.pt", "arm.mcap", rrd="replay.rrd")
     softarm.write_suite("suite")                      # the held-out motions
     scores = softarm.evaluate("arm.pt", "suite")      # per family, beside the baselines
+    done = softarm.run_study("sensors", "studies/sensors")  # a comparative study, trials as Ray tasks
 
 Importing softarm is cheap: Taichi, torch and rerun load when a function first needs them.
 """
@@ -36,6 +38,8 @@ _API = {
     "write_corpus": "softarm.corpus.build",
     "write_suite": "softarm.suite.build",
     "evaluate": "softarm.suite.run",
+    "load_study": "softarm.study.builtin",
+    "run_study": "softarm.study.run",
 }
 __all__ = list(_API)
 

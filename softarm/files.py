@@ -68,15 +68,16 @@ def atomic_path(path: Union[str, Path]) -> Iterator[Path]:
 def write_json(path: Union[str, Path], document: Any) -> Path:
     """Indented JSON written whole; NaN becomes null, since strict JSON readers reject NaN."""
     with atomic_path(path) as part:
-        part.write_text(json.dumps(_finite_or_null(document), indent=1, allow_nan=False))
+        part.write_text(json.dumps(finite_or_null(document), indent=1, allow_nan=False))
     return Path(path)
 
 
-def _finite_or_null(value: Any) -> Any:
+def finite_or_null(value: Any) -> Any:
+    """NaN and infinities as null: JSON has no numbers for them."""
     if isinstance(value, dict):
-        return {k: _finite_or_null(v) for k, v in value.items()}
+        return {k: finite_or_null(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_finite_or_null(v) for v in value]
+        return [finite_or_null(v) for v in value]
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 

@@ -36,10 +36,10 @@ def tiny_checkpoint(recordings, tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
-def tiny_stream_checkpoint(recordings, tmp_path_factory):
-    """The same few seconds of training for the stream model."""
+def tiny_window_checkpoint(recordings, tmp_path_factory):
+    """The same few seconds of training for the paper's window model (the default is the stream model)."""
     from softarm.learn.run import train
 
-    folder = tmp_path_factory.mktemp("ckpt_stream")
-    return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "stream"}),
-                 folder / "tiny_stream.pt")
+    folder = tmp_path_factory.mktemp("ckpt_window")
+    return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "window"}),
+                 folder / "tiny_window.pt")

@@ -43,13 +43,14 @@ class Group:
 
 
 def pieces(data: Dataset, streams: int, warmup: int, lead: int) -> list[Piece]:
-    """Every recording's training segment, cut into equal pieces so that at least `streams` are read."""
+    """Every recording's training segment, cut into equal pieces so that at least `streams` are read, none
+    shorter than its warm-up (a short recording gives fewer)."""
     segments = [(n, seq.segment("train")[1] - lead) for n, seq in enumerate(data.sequences)]
     segments = [(n, end) for n, end in segments if end > 0]
     cuts = math.ceil(streams / max(1, len(segments)))
     out = []
     for n, end in segments:
-        bounds = np.linspace(0, end, min(cuts, end) + 1).round().astype(int)
+        bounds = np.linspace(0, end, max(1, min(cuts, end // warmup)) + 1).round().astype(int)
         out.extend(Piece(n, max(0, a - warmup), a, b) for a, b in zip(bounds[:-1], bounds[1:]))
     return out
 

@@ -90,6 +90,7 @@ def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, An
              for answer in ANSWERS}
     row = {key: means["model"][key] for key in ("iou", "bce")}
     row["tip_error_mm"] = means["model"]["tip_mm"]
+    row["tip_error_median_mm"] = float(np.nanmedian(np.concatenate([p["tip_mm"] for p in parts["model"]])))
     row["skill"] = skill(means["model"]["iou"], means["mean_frame"]["iou"], means["ae_ceiling"]["iou"])
     row["frames"] = int(sum(len(p["iou"]) for p in parts["model"]))
     row["baselines"] = {answer: {"iou": means[answer]["iou"], "bce": means[answer]["bce"],
@@ -120,5 +121,5 @@ def skill(iou: float, floor: float, ceiling: float) -> float:
 
 def mean_over_families(families: dict[str, dict[str, Any]]) -> dict[str, float]:
     """Every family weighs the same, whatever its frame count."""
-    keys = ("iou", "bce", "tip_error_mm", "skill")
+    keys = ("iou", "bce", "tip_error_mm", "tip_error_median_mm", "skill")
     return {key: float(np.nanmean([row[key] for row in families.values()])) for key in keys}

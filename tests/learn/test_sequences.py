@@ -21,7 +21,9 @@ def dataset(lengths: list[int], train_frames: list[int]) -> Dataset:
 def test_pieces_score_every_training_sample_exactly_once(streams, lead):
     data = dataset([500, 300, 420], [400, 250, 0])  # the last one is a held-out recording: nothing trains
     every = pieces(data, streams, warmup=20, lead=lead)
-    assert len(every) >= min(streams, 650)
+    per_recording = -(-streams // 2)  # two recordings train; no piece is shorter than its warm-up
+    assert len(every) == sum(max(1, min(per_recording, (end - lead) // 20)) for end in (400, 250))
+    assert all(p.end - p.scored >= 20 for p in every)
     for n, end in ((0, 400 - lead), (1, 250 - lead)):
         scored = np.concatenate([np.arange(p.scored, p.end) for p in every if p.recording == n])
         assert np.array_equal(np.sort(scored), np.arange(end))

@@ -10,7 +10,7 @@ from softarm.learn.stream import StreamingImaginer
 from softarm.record.reader import read_recording
 
 
-@pytest.mark.parametrize("fixture", ["tiny_checkpoint", "tiny_stream_checkpoint"])
+@pytest.mark.parametrize("fixture", ["tiny_window_checkpoint", "tiny_checkpoint"])
 def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
     imaginer = Imaginer.from_checkpoint(load_checkpoint(request.getfixturevalue(fixture).checkpoint))
     stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch
@@ -29,7 +29,7 @@ def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
     assert stream.step(stretch[0]) is None and stream.samples == 1
 
 
-@pytest.mark.parametrize("fixture, remembers", [("tiny_checkpoint", False), ("tiny_stream_checkpoint", True)])
+@pytest.mark.parametrize("fixture, remembers", [("tiny_window_checkpoint", False), ("tiny_checkpoint", True)])
 def test_only_the_stream_model_remembers_samples_older_than_its_window(recordings, fixture, remembers, request):
     imaginer = Imaginer.from_checkpoint(load_checkpoint(request.getfixturevalue(fixture).checkpoint))
     stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch

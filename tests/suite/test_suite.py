@@ -84,6 +84,7 @@ def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, 
         assert row["skill"] == pytest.approx((row["iou"] - floor) / (ceiling - floor))
         for scores in (row, *row["baselines"].values()):
             assert 0 <= scores["iou"] <= 1 and scores["bce"] > 0 and scores["tip_error_mm"] >= 0
+        assert 0 <= row["tip_error_median_mm"] <= 3 * row["tip_error_mm"]
     trust = document["confidence"]
     assert trust["frames"] == sum(row["frames"] for row in document["families"].values())
     assert -1 <= trust["spearman"] <= 1 and 0 <= trust["least_trusted_iou"] <= 1 and "least trusted" in result.stdout
