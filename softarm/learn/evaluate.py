@@ -36,7 +36,10 @@ def imaginer_of(state: TrainState) -> Imaginer:
 def segment_prediction(imaginer: Imaginer, data: Dataset, segment: str) -> Prediction:
     """The answers for every frame of a segment, all recordings in order, that a window inside the segment
     reaches (the frames `Dataset.windows` lists): targets are (recording, frame) pairs (M, 2). The stream
-    model reads each recording from its start, as it would online."""
+    model reads each recording from its start, as it would online; the window model reads only the
+    segment's windows."""
+    if imaginer.model == "window":
+        return imaginer.predict_windows(*data.windows(segment, imaginer.history, imaginer.include_current))
     skip = imaginer.history - 1 + imaginer.lead
     parts = []
     for n, (seq, p) in enumerate(zip(data.sequences, imaginer.predict_many([s.stretch for s in data.sequences]))):

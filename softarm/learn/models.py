@@ -55,7 +55,7 @@ class Autoencoder(nn.Module):
 class ErrorHead(nn.Module):
     """Predicts the log of each latent feature's squared error from the recurrent state it reads, detached:
     learning to say how wrong it is never changes what the model predicts. Its prediction is the
-    imagined frame's confidence (softarm.learn.confidence)."""
+    imagined frame's confidence (softarm.learn.imaginer.Prediction.confidence)."""
 
     def __init__(self, hidden: int, outputs: int):
         super().__init__()
@@ -65,15 +65,19 @@ class ErrorHead(nn.Module):
         return self.net(states.detach())
 
 
-class StretchToLatent(nn.Module):
-    """The paper's model: one LSTM layer over a window of normalised stretch samples, started afresh for
-    every window; its last state predicts the latent."""
+class RecurrentLatent(nn.Module):
+    """What both latent models are made of: one LSTM layer, a linear head to the latent and an error head."""
 
     def __init__(self, sensors: int, hidden: int, outputs: int):
         super().__init__()
         self.lstm = nn.LSTM(sensors, hidden, num_layers=1, batch_first=True)
         self.head = nn.Linear(hidden, outputs)
         self.error = ErrorHead(hidden, outputs)
+
+
+class StretchToLatent(RecurrentLatent):
+    """The paper's model: the LSTM over a window of normalised stretch samples, started afresh for every
+    window; its last state predicts the latent."""
 
     def forward(self, windows: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         """(B, history, sensors) -> predicted latents (B, outputs) and their log squared errors (B, outputs)."""
@@ -85,16 +89,10 @@ class StretchToLatent(nn.Module):
 State = tuple[torch.Tensor, torch.Tensor]
 
 
-class StreamToLatent(nn.Module):
-    """The arm's memory: one LSTM layer that reads the stream sample by sample and carries its state from
-    the first sample on, so a motion seen seconds ago still shapes today's answer. Every sample's state
-    predicts a latent."""
-
-    def __init__(self, sensors: int, hidden: int, outputs: int):
-        super().__init__()
-        self.lstm = nn.LSTM(sensors, hidden, num_layers=1, batch_first=True)
-        self.head = nn.Linear(hidden, outputs)
-        self.error = ErrorHead(hidden, outputs)
+class StreamToLatent(RecurrentLatent):
+    """The arm's memory: the LSTM reads the stream sample by sample and carries its state from the first
+    sample on, so a motion seen seconds ago still shapes today's answer. Every sample's state predicts a
+    latent."""
 
     def forward(self, samples: torch.Tensor, state: Optional[State] = None
                 ) -> tuple[torch.Tensor, torch.Tensor, State]:

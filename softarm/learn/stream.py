@@ -45,18 +45,18 @@ class StreamingImaginer:
         `history` samples have been seen (the first frame a batch replay imagines)."""
         imaginer = self.imaginer
         self.samples += 1
-        frame = self.samples - 1 + imaginer.lead
-        if imaginer.model == "stream":
+        frame = np.array([self.samples - 1 + imaginer.lead])
+        if imaginer.model == "stream":  # the state advances with every sample, answered or not
             x = torch.from_numpy(imaginer.stretch_scaler.forward(np.asarray(sample, np.float64)[None, None]).astype(np.float32))
             latent, log_error, self._state = imaginer.lstm(x, self._state)
-            prediction = Prediction(np.array([frame]), latent[0].numpy(), log_error[0].numpy())
+            prediction = Prediction(frame, latent[0].numpy(), log_error[0].numpy())
         else:
             self._window.append(np.asarray(sample, np.float64))
-            if len(self._window) == imaginer.history:
-                prediction = imaginer.predict_windows(np.stack(self._window)[None], np.array([frame]))
         if self.samples < imaginer.history:
             return None
-        return ImaginedFrame(frame, imaginer.decode(prediction.latents)[0], float(prediction.confidence[0]))
+        if imaginer.model == "window":
+            prediction = imaginer.predict_windows(np.stack(self._window)[None], frame)
+        return ImaginedFrame(int(frame[0]), imaginer.decode(prediction.latents)[0], float(prediction.confidence[0]))
 
     def reset(self) -> None:
         """Forget what was read (a new run or a gap in the readings)."""
