@@ -5,7 +5,7 @@ over the whole run is the error the default must keep below 0.1 mm (docs/model.m
 amplitude sweep repeats the comparison at the default substeps for growing amplitudes: once the
 motion turns chaotic, step-size round-off grows to the size of the arm and runs stop agreeing.
 
-    python bench/convergence.py [--duration 100] [--config FILE]
+    python -m bench.convergence [--duration 100] [--config FILE]
 """
 
 import argparse
@@ -14,15 +14,15 @@ import time
 import numpy as np
 
 from softarm.arm.batch import ArmBatch, arm_batch
-from softarm.config import load_config
+from softarm.config import load_config, override
 from softarm.sim.physics import Simulator
 from softarm.sim.runtime import init_taichi
 
 
 def run(config, amplitudes: list[float], substeps: int, n_frames: int) -> np.ndarray:
     """Seed 0 (the paper's run) at each amplitude, started as `softarm sim` starts it, stepped as one batch."""
-    config = config.replace(**{"integration.substeps": substeps})
-    arms = [arm_batch(config.replace(**{"excitation.amplitude": a}), seeds=[0]) for a in amplitudes]
+    config = override(config, {"integration.substeps": substeps})
+    arms = [arm_batch(override(config, {"excitation.amplitude": a}), seeds=[0]) for a in amplitudes]
     batch = ArmBatch(body=arms[0].body, seeds=[0] * len(arms), drives=[b.drives[0] for b in arms],
                      positions=np.concatenate([b.positions for b in arms]),
                      velocities=np.concatenate([b.velocities for b in arms]))

@@ -1,6 +1,6 @@
 """softarm benchmarks: every figure is a ratio against a reference measured in the same run.
 
-    python bench/run.py [--quick] [--out bench/results]
+    python -m bench.run [--quick] [--out bench/results]
 
 Prints a Markdown table and writes it, with the raw figures, to bench/results/latest.{md,json}.
 Sections: physics (Taichi vs the float64 NumPy reference), physics vs C (Taichi on every core vs
@@ -23,17 +23,16 @@ from typing import Callable
 import cv2
 import numpy as np
 
+from bench.c_reference import CReference, find_compiler
 from softarm.arm.batch import arm_batch
 from softarm.arm.camera import world_to_pixel
 from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
+from softarm.sim.budget import MAX_BLOCK_FRAMES
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
-from softarm.sim.budget import MAX_BLOCK_FRAMES
 from softarm.sim.run import simulate
 from softarm.sim.runtime import init_taichi
-
-from c_reference import CReference, find_compiler  # bench/c_reference.py, next to this script
 
 
 def best_of(repeats: int, action: Callable[[], object]) -> float:

@@ -1,6 +1,6 @@
 """Physics throughput against batch size, per Taichi backend, and where a GPU overtakes the CPU.
 
-    python bench/scaling.py [--archs cpu gpu] [--arms 1 16 64 256 1024 4096] [--frames 20]
+    python -m bench.scaling [--archs cpu gpu] [--arms 1 16 64 256 1024 4096] [--frames 20]
 
 Each backend runs in its own process (Taichi starts once per process on one backend); a backend
 that is not available is reported and skipped. Prints a Markdown table of spring updates per second

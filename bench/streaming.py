@@ -2,11 +2,11 @@
 frame included, against the robot's 10 ms sample period and the 1 ms goal; beside it, the per-frame
 cost of a batch replay measured in the same run.
 
-    python bench/streaming.py [--checkpoint CKPT] [--samples N]
+    python -m bench.streaming [--checkpoint CKPT] [--samples N]
 
-Without a checkpoint it times both latent models at their default sizes (latent 16, LSTM 128; the
-window model over 6 samples, the stream model one sample at a time) with fresh weights: latency does
-not depend on what the weights learned.
+Without a checkpoint it times every latent model of the registry at its default size (latent 16, 128
+hidden units; the window model over 6 samples, the stream models one sample at a time) with fresh
+weights: latency does not depend on what the weights learned.
 """
 
 import argparse
@@ -15,31 +15,34 @@ import time
 import numpy as np
 import torch
 
-from softarm.config import load_config
-from softarm.learn.checkpoint import load_checkpoint
-from softarm.learn.imaginer import Imaginer
-from softarm.learn.models import Autoencoder, latent_model
-from softarm.learn.scaler import Scaler
-from softarm.learn.stream import StreamingImaginer
+from softarm.config import load_config, override
+from softarm.imagine.stream import StreamingImaginer
+from softarm.model.autoencoder import Autoencoder
+from softarm.model.imaginer import Imaginer
+from softarm.model.inputs import Inputs, channels
+from softarm.model.registry import LATENT_MODELS, latent_model_class
+from softarm.model.scaler import Scaler
+from softarm.model.trained import TrainedModel
 
 PERIOD_MS = 10.0  # the default frame step: 100 samples a second
 GOAL_MS = 1.0
 
 
 def default_imaginer(model: str) -> Imaginer:
-    config = load_config()
+    """Fresh networks of the default sizes, identity scalers: what a checkpoint of `model` costs to run."""
+    config = override(load_config(), {"train.model": model})
     t, sensors = config.train, len(config.sensors.pairs)
     torch.manual_seed(0)
     ae = Autoencoder(config.camera.height, config.camera.width, t.latent).eval()
-    lstm = latent_model(model, sensors, t.lstm_hidden, t.latent).eval()
+    latent = latent_model_class(model)(sensors, t.latent, t).eval()
     ae.to(memory_format=torch.channels_last)
     identity = lambda n: Scaler(keep=np.ones(n, bool), mean=np.zeros(n), std=np.ones(n))  # noqa: E731
-    return Imaginer(ae, lstm, identity(t.latent), identity(sensors), t.history, t.include_current, model)
+    return Imaginer(ae, latent, identity(t.latent), Inputs(channels(), (identity(sensors),)))
 
 
 def measure(imaginer: Imaginer, samples: int) -> tuple[np.ndarray, float]:
     """Per-sample streaming latencies (ms, after the first window) and the per-frame cost of a batch replay (ms)."""
-    signals = np.random.default_rng(0).normal(0, 1e-3, (samples, imaginer.stretch_scaler.mean.shape[0]))
+    signals = np.random.default_rng(0).normal(0, 1e-3, (samples, imaginer.inputs.features))
     stream = StreamingImaginer(imaginer)
     for sample in signals[:50]:  # warm up
         stream.step(sample)
@@ -51,8 +54,9 @@ def measure(imaginer: Imaginer, samples: int) -> tuple[np.ndarray, float]:
         latencies.append(time.perf_counter() - start)
     start = time.perf_counter()
     imaginer.imagine(signals)
-    batch_ms = (time.perf_counter() - start) * 1e3 / (len(signals) - imaginer.history)
-    return np.array(latencies[imaginer.history:]) * 1e3, batch_ms
+    history = imaginer.latent.history
+    batch_ms = (time.perf_counter() - start) * 1e3 / (len(signals) - history)
+    return np.array(latencies[history:]) * 1e3, batch_ms
 
 
 def main() -> None:
@@ -61,15 +65,15 @@ def main() -> None:
     ap.add_argument("--samples", type=int, default=2000)
     args = ap.parse_args()
     torch.set_num_threads(1)  # one core, as a robot's control loop gets
-    imaginers = ({"checkpoint": Imaginer.from_checkpoint(load_checkpoint(args.checkpoint))} if args.checkpoint
-                 else {model: default_imaginer(model) for model in ("window", "stream")})
+    imaginers = ({"checkpoint": TrainedModel(args.checkpoint).imaginer} if args.checkpoint
+                 else {model: default_imaginer(model) for model in LATENT_MODELS})
     print(f"torch {torch.__version__}, 1 thread, {args.samples} samples")
     print("| online imagination, one sample | median ms | 99th percentile ms | median against the 1 ms goal "
           "| share of the 10 ms period | batch replay, ms per frame |\n|---|---:|---:|---:|---:|---:|")
     for name, imaginer in imaginers.items():
         steady, batch_ms = measure(imaginer, args.samples)
         median, p99 = np.median(steady), np.percentile(steady, 99)
-        print(f"| {name} model ({imaginer.model}) | {median:.3f} | {p99:.3f} | {median / GOAL_MS:.2f}x "
+        print(f"| {name} model ({imaginer.latent.settings.model}) | {median:.3f} | {p99:.3f} | {median / GOAL_MS:.2f}x "
               f"| {median / PERIOD_MS:.1%} | {batch_ms:.3f} |")
 
 

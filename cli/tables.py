@@ -4,7 +4,7 @@ from typing import Any
 
 from rich.table import Table
 
-ROWS = {"lstm": "LSTM imagination", "ridge": "ridge baseline", "mean_frame": "mean-frame baseline",
+ROWS = {"model": "model imagination", "ridge": "ridge baseline", "mean_frame": "mean-frame baseline",
         "ae_ceiling": "AE ceiling (true latent)"}
 
 
@@ -28,8 +28,8 @@ def metrics_table(metrics: dict[str, Any]) -> Table:
         count = len(metrics["validation"]["recordings"])
         for key, label in ROWS.items():
             scores_row(table, f"{label}, {count} held-out recordings", metrics["validation"][key])
-    mse = metrics["lstm_latent_mse"]
-    table.caption = f"LSTM latent MSE (normalised): test {mse['test']:.3f}, imagination {mse['imagine']:.3f}"
+    mse = metrics["latent_mse"]
+    table.caption = f"latent MSE (normalised): test {mse['test']:.3f}, imagination {mse['imagine']:.3f}"
     return table
 
 

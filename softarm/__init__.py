@@ -1,9 +1,10 @@
 """softarm: a simulated soft arm that learns to picture its own body from its stretch sensors.
 
 The data path, one stage per subpackage: `arm` (the body as arrays) -> `sim` (Taichi physics and
-camera) -> `record` (MCAP) -> `sense` (what the sensors read) -> `learn` (autoencoder + LSTM) ->
-`imagine` (replay) -> `suite` (held-out evaluation) -> `view` (Rerun, PNG); `study` runs grids of
-trainings and evaluations as Ray tasks.
+camera) -> `record` (MCAP) -> `sense` (what the sensors read) -> `model` (the trained model: networks,
+inputs, checkpoint, answers, baselines, metrics) trained by `learn` -> `imagine` (replay, the online
+streamer) -> `suite` (held-out evaluation) -> `view` (Rerun, PNG); `study` runs grids of trainings and
+evaluations as Ray tasks; `demo` runs the whole pipeline.
 
 From a notebook::
 
@@ -14,6 +15,7 @@ From a notebook::
     softarm.write_suite("suite")                      # the held-out motions
     scores = softarm.evaluate("arm.pt", "suite")      # per family, beside the baselines
     done = softarm.run_study("sensors", "studies/sensors")  # a comparative study, trials as Ray tasks
+    stream = softarm.StreamingImaginer.from_checkpoint("arm.pt")  # one sample in, one imagined frame out
 
 Importing softarm is cheap: Taichi, torch and rerun load when a function first needs them.
 """
@@ -40,6 +42,8 @@ _API = {
     "evaluate": "softarm.suite.run",
     "load_study": "softarm.study.builtin",
     "run_study": "softarm.study.run",
+    "demo": "softarm.demo",
+    "StreamingImaginer": "softarm.imagine.stream",
 }
 __all__ = list(_API)
 

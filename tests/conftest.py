@@ -2,9 +2,7 @@ import pytest
 
 from softarm.config import load_config
 from softarm.sim.runtime import init_taichi
-
-TINY = {"train.epochs_ae": 10, "train.epochs_lstm": 12, "train.batch_ae": 32, "train.latent": 8,
-        "train.lstm_hidden": 32, "train.lr_ae": 0.003}
+from tests.helpers.tiny import TINY
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -7,7 +7,6 @@ from softarm.config.schema import Config, ExcitationConfig, SensingConfig
 from softarm.errors import ConfigError
 
 INTEGRATORS = ("symplectic_euler",)
-MODELS = ("window", "stream")  # softarm.learn.models: StretchToLatent, StreamToLatent
 EXCITATION_KINDS = ("product_of_sines", "sum_of_sines")
 
 
@@ -48,7 +47,6 @@ def check_ranges(c: Config) -> None:
     _require(0 < t.train_fraction < 1, "train.train_fraction", t.train_fraction, "must be in (0, 1)")
     _require(0 < t.test_fraction and t.train_fraction + t.test_fraction < 1, "train.test_fraction",
              t.test_fraction, "must be > 0 and leave room for the imagination segment")
-    _require(t.model in MODELS, "train.model", t.model, f"must be one of {list(MODELS)}")
     _require(0 <= t.validation_recordings < 1, "train.validation_recordings", t.validation_recordings,
              "must be in [0, 1)")
     for key in ("latent", "history", "sequence", "streams", "epochs_ae", "epochs_lstm", "batch_ae", "batch_lstm",

@@ -30,6 +30,12 @@ def load_config(path: Union[str, Path, None] = None, overrides: Union[dict[str, 
     return config_from_dict(data)
 
 
+def override(config: Config, overrides: dict[str, Any]) -> Config:
+    """A copy of `config` with some dotted keys changed, e.g. `override(config, {"run.seed": 3})`; validated
+    like a file."""
+    return config_from_dict(merge(config.to_dict(), nest(overrides)))
+
+
 def config_from_dict(data: dict[str, Any]) -> Config:
     """Build and validate a Config from a nested dict holding every required key."""
     config = _build(Config, data, "")

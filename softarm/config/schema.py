@@ -113,6 +113,12 @@ class TrainConfig:
     min_feature_std: float
     seed: int
 
+    @property
+    def lead(self) -> int:
+        """Frames between the last input sample a model reads and the frame it imagines from it: 1 with the
+        paper's set-up (samples up to k - 1 imagine frame k), 0 with `include_current`."""
+        return 0 if self.include_current else 1
+
 
 @dataclass(frozen=True)
 class Config:
@@ -133,12 +139,6 @@ class Config:
     def to_dict(self) -> dict[str, Any]:
         """Plain nested dict (lists, no tuples, no unset optional keys): the form written to recordings."""
         return _plain(dataclasses.asdict(self))
-
-    def replace(self, **dotted: Any) -> "Config":
-        """A copy with some keys changed, e.g. `replace(**{"run.seed": 3})`; validated like a file."""
-        from softarm.config.load import config_from_dict, merge, nest
-
-        return config_from_dict(merge(self.to_dict(), nest(dotted)))
 
 
 def _plain(value: Any) -> Any:

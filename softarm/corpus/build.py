@@ -4,10 +4,10 @@ from pathlib import Path
 from typing import Callable, Optional, Union
 
 from softarm.config import load_config
+from softarm.corpus.presets import PRESETS, SEED_BLOCK, arms_per_group, seeds_of
 from softarm.errors import ConfigError
 from softarm.files import write_json
 from softarm.sim.groups import fresh_manifest, simulate_groups
-from softarm.corpus.presets import PRESETS, SEED_BLOCK, arms_per_group, seeds_of
 
 MANIFEST = "corpus.json"
 DEFAULT_ARMS = 64

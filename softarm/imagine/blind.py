@@ -6,7 +6,7 @@ from typing import Sequence
 import numpy as np
 
 from softarm.errors import BlindRangeError
-from softarm.learn.metrics import EPS
+from softarm.model.metrics import EPS
 
 
 def parse_blind(ranges: Sequence[str]) -> list[tuple[float, float]]:

@@ -14,8 +14,8 @@ import numpy as np
 import orjson
 
 from softarm.files import fingerprint
-from softarm.record.mcap_file import McapFile
 from softarm.record.format import json_schema
+from softarm.record.mcap_file import McapFile
 
 if TYPE_CHECKING:
     from softarm.imagine.replay import Replay

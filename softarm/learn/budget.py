@@ -16,9 +16,10 @@ from typing import Callable
 import torch
 import torch.nn.functional as F
 
-from softarm.learn.models import latent_model
+from softarm.config import override
 from softarm.learn.train import schedules
 from softarm.learn.train_state import TrainState
+from softarm.model.registry import latent_model_class
 
 PROBE_STEPS = 3
 RESERVE = 0.1  # of the budget, kept for encoding the frames and scoring held-out data
@@ -27,12 +28,12 @@ RESERVE = 0.1  # of the budget, kept for encoding the frames and scoring held-ou
 def fit_to_minutes(state: TrainState, minutes: float, spent: float) -> None:
     """Cap the schedules of `state` (not yet started) so that training ends within `minutes`, `spent`
     seconds of which are gone already (loading the data)."""
-    ae, lstm = schedules(state)
-    ae_step, lstm_step = _autoencoder_step(state), _lstm_step(state)
+    ae, latent = schedules(state)
+    ae_step, latent_step = _autoencoder_step(state), _latent_step(state)
     budget = minutes * 60 * (1 - RESERVE) - spent
-    scale = min(1.0, max(budget, 0.0) / (ae.total * ae_step + lstm.total * lstm_step))
-    state.config = state.config.replace(**{"train.max_steps_ae": max(1, math.floor(ae.total * scale)),
-                                           "train.max_steps_lstm": max(1, math.floor(lstm.total * scale))})
+    scale = min(1.0, max(budget, 0.0) / (ae.total * ae_step + latent.total * latent_step))
+    state.config = override(state.config, {"train.max_steps_ae": max(1, math.floor(ae.total * scale)),
+                                           "train.max_steps_lstm": max(1, math.floor(latent.total * scale))})
 
 
 def _seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor]) -> float:
@@ -55,9 +56,10 @@ def _autoencoder_step(state: TrainState) -> float:
                                                                                          frames))
 
 
-def _lstm_step(state: TrainState) -> float:
-    """A stand-in of the latent model's size, on a batch of its real shape: windows, or chunks of streams."""
-    t, sensors = state.config.train, state.data.sensor_count
-    network = latent_model(t.model, sensors, t.lstm_hidden, t.latent)
-    batch = torch.zeros(t.batch_lstm, t.history, sensors) if t.model == "window" else torch.zeros(t.streams, t.sequence, sensors)
+def _latent_step(state: TrainState) -> float:
+    """A stand-in of the latent model's size, on a dummy batch of its real training shape."""
+    t, features = state.config.train, sum(state.data.widths)
+    model = latent_model_class(t.model)
+    network = model(features, t.latent, t)
+    batch = model.dummy_batch(t, features)
     return _seconds_per_step(network, lambda: network(batch)[0].square().mean())

@@ -1,22 +1,13 @@
 """Latent codes of every recording, encoded once by the trained autoencoder and then indexed.
 
-Sixteen numbers a frame replace stacked copies of the target frames for every later use: the LSTM's
-training pairs, the scalers, the ridge baseline and the metrics.
+Sixteen numbers a frame replace stacked copies of the target frames for every later use: the latent
+model's training targets, the scalers, the ridge baseline and the metrics.
 """
 
 import numpy as np
-import torch
 
-from softarm.learn.imaginer import BATCH
 from softarm.learn.dataset import Dataset
-from softarm.learn.models import Autoencoder
-
-
-@torch.inference_mode()
-def encode_frames(autoencoder: Autoencoder, frames: np.ndarray) -> np.ndarray:
-    """Raw latent codes (M, F) of frames (M, H, W), in batches."""
-    x = torch.from_numpy(frames)
-    return torch.cat([autoencoder.encode(x[i:i + BATCH]) for i in range(0, len(x), BATCH)]).numpy()
+from softarm.model.autoencoder import Autoencoder, encode_frames
 
 
 class LatentCodes:
@@ -31,3 +22,7 @@ class LatentCodes:
     def segment(self, data: Dataset, segment: str) -> np.ndarray:
         """Raw codes of every frame of a segment, all recordings in order."""
         return np.concatenate([self._codes[n][slice(*seq.segment(segment))] for n, seq in enumerate(data.sequences)])
+
+    def recording(self, n: int) -> np.ndarray:
+        """Raw codes (T, F) of every frame of recording n."""
+        return self._codes[n]

@@ -1,8 +1,8 @@
-"""Learning data from recordings: frames and stretch, split by time as in the paper.
+"""Learning data from recordings: frames and the model's raw inputs, split by time as in the paper.
 
 Each recording is split on its own: the first `train_fraction` of its frames train, the next
-`test_fraction` test the autoencoder (and validate the LSTM), the rest is the imagination segment.
-Stretch windows never straddle a split, so no test target is predicted from training samples. A
+`test_fraction` test the autoencoder (and validate the latent model), the rest is the imagination segment.
+Input windows never straddle a split, so no test target is predicted from training samples. A
 corpus also keeps whole recordings out (`validation_recordings`): their test segment starts at their
 first frame, so validation covers motions the networks never saw.
 """
@@ -14,12 +14,13 @@ from typing import Optional, Sequence, Union
 import numpy as np
 
 from softarm.arm.drive import HELD_OUT_SEED_BASE
-from softarm.config import SensingConfig, TrainConfig
+from softarm.config import Config, TrainConfig
 from softarm.errors import RecordingError
 from softarm.files import fingerprint
-from softarm.learn.fits import check_fits
+from softarm.model.fits import check_fits, recording_shape
+from softarm.model.inputs import InputChannel, read_channels
+from softarm.model.windows import input_windows, window_count
 from softarm.record.reader import read_recording
-from softarm.sense.reading import needs_nodes, sensed_stretch
 
 MIN_CORPUS = 4  # recordings; more make a corpus, which keeps some out for validation
 
@@ -30,7 +31,7 @@ class RunData:
     name: str
     fingerprint: str            # sha256 of the file, first 16 hex digits
     frames: np.ndarray          # (T, H, W) uint8 0/1
-    stretch: np.ndarray         # (T, P) float32, m
+    inputs: np.ndarray          # (T, F) float32, every input channel side by side, raw (SI units)
     times: np.ndarray           # (T,) s
     bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
     held_out: bool = False      # a validation recording: nothing of it trains (b0 = 0)
@@ -43,16 +44,14 @@ class RunData:
 @dataclass(frozen=True)
 class Dataset:
     sequences: list[RunData]
+    channels: tuple[InputChannel, ...]
+    widths: list[int]              # features of each channel
     cache: Optional[Path] = None   # where frames live on disk (memory-mapped), if anywhere
     _segments: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def image_shape(self) -> tuple[int, int]:
         return self.sequences[0].frames.shape[1:]
-
-    @property
-    def sensor_count(self) -> int:
-        return self.sequences[0].stretch.shape[1]
 
     def frames(self, segment: str) -> np.ndarray:
         """(M, H, W) uint8 frames of a segment, all recordings in order: a view for one recording, else one
@@ -65,22 +64,26 @@ class Dataset:
                                        else on_disk(self.cache / f"{segment}.u8", parts))
         return self._segments[segment]
 
-    def windows(self, segment: str, history: int, include_current: bool) -> tuple[np.ndarray, np.ndarray]:
-        """Stretch windows (M, history, P) of a segment, all recordings, and the (recording, frame) each predicts (M, 2)."""
+    def windows(self, segment: str, history: int, lead: int) -> tuple[np.ndarray, np.ndarray]:
+        """Raw input windows (M, history, F) of a segment, all recordings, and the (recording, frame) each
+        imagines (M, 2)."""
         inputs, targets = [], []
         for n, seq in enumerate(self.sequences):
             start, end = seq.segment(segment)
-            w, k = stretch_windows(seq.stretch, history, include_current, start, end)
+            w, k = input_windows(seq.inputs, history, lead, start, end)
             inputs.append(w)
             targets.append(np.stack([np.full(len(k), n), k], axis=1))
         if not sum(map(len, inputs)):
             raise RecordingError(f"the {segment} segment is shorter than a history of {history} samples")
         return np.concatenate(inputs), np.concatenate(targets)
 
-    def count(self, segment: str, history: int = 0, include_current: bool = False) -> int:
-        """Frames of a segment, all recordings; with a history, the stretch windows `windows` would give."""
-        lost = history - 1 + (0 if include_current else 1) if history else 0
-        return sum(max(0, end - start - lost) for start, end in (s.segment(segment) for s in self.sequences))
+    def count(self, segment: str) -> int:
+        """Frames of a segment, all recordings."""
+        return sum(end - start for start, end in (s.segment(segment) for s in self.sequences))
+
+    def window_count(self, segment: str, history: int, lead: int) -> int:
+        """The input windows `windows` gives for a segment, all recordings."""
+        return sum(window_count(end - start, history, lead) for start, end in (s.segment(segment) for s in self.sequences))
 
     def target_frames(self, targets: np.ndarray) -> np.ndarray:
         return np.stack([self.sequences[n].frames[k] for n, k in targets])
@@ -90,37 +93,23 @@ class Dataset:
         return [{"name": s.name, "sha256": s.fingerprint, "frames": len(s.times)} for s in self.sequences]
 
 
-def stretch_windows(stretch: np.ndarray, history: int, include_current: bool, start: int = 0,
-                    end: Optional[int] = None) -> tuple[np.ndarray, np.ndarray]:
-    """The windows of stretch[start:end] and the frame index each predicts.
-
-    The window for frame k is samples k-history .. k-1 (the paper's set-up), or k-history+1 .. k with
-    include_current; every sample lies in [start, end), so no window straddles a split.
-    """
-    end = len(stretch) if end is None else end
-    lag = 0 if include_current else 1
-    targets = np.arange(start + history - 1 + lag, end)
-    first = targets - lag - history + 1
-    windows = stretch[first[:, None] + np.arange(history)] if len(targets) else np.zeros((0, history, stretch.shape[1]))
-    return windows, targets
-
-
 def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
     """Frame indices where test and imagination begin (8500 and 9500 for 10 000 frames)."""
     return round(n_frames * train.train_fraction), round(n_frames * (train.train_fraction + train.test_fraction))
 
 
-def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing: SensingConfig,
+def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Sequence[InputChannel],
                  cache: Optional[Path] = None) -> Dataset:
-    """Read recordings (all of one image shape and sensor count), each as `sensing` reads its sensors,
-    and split each by time. With a `cache` folder the frames go to disk and are memory-mapped, so the
-    memory a corpus needs does not grow with its size."""
+    """Read recordings (all of one image shape and channel widths), each channel as `config` reads it, and
+    split each by time. With a `cache` folder the frames go to disk and are memory-mapped, so the memory a
+    corpus needs does not grow with its size."""
     if not paths:
         raise RecordingError("give at least one recording")
-    sequences = []
+    train, channels = config.train, tuple(channels)
+    sequences, first = [], None
     held_out = validation_indices(len(paths), train.validation_recordings)
     for path in map(Path, paths):
-        rec = read_recording(path, nodes=needs_nodes(sensing))
+        rec = read_recording(path, nodes=any(c.needs_nodes(config) for c in channels))
         if int(rec.model.get("seed", 0)) >= HELD_OUT_SEED_BASE:
             raise RecordingError(f"{path.name} was made from seed {rec.model['seed']}, one of the held-out suite's "
                                  f"(>= {HELD_OUT_SEED_BASE}): train on seeds below it")
@@ -128,15 +117,15 @@ def load_dataset(paths: Sequence[Union[str, Path]], train: TrainConfig, sensing:
         bounds = split_bounds(len(rec.times), train)
         validation = len(sequences) in held_out
         seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=frames,
-                      stretch=sensed_stretch(rec, sensing).astype(np.float32), times=rec.times,
+                      inputs=read_channels(channels, rec, config).astype(np.float32), times=rec.times,
                       bounds=(0, bounds[1]) if validation else bounds, held_out=validation)
-        if sequences:
-            first = sequences[0]
-            check_fits(seq.name, seq.frames.shape[1:], seq.stretch.shape[1], first.frames.shape[1:],
-                       first.stretch.shape[1], first.name)
+        shape = recording_shape(rec.model, channels, config)
+        if first is None:
+            first = (path.name, shape)
+        check_fits(seq.name, shape, first[1], channels, first[0])
         check_segments(seq, train)
         sequences.append(seq)
-    return Dataset(sequences, cache)
+    return Dataset(sequences, channels, list(first[1][1]), cache)
 
 
 def validation_indices(count: int, share: float) -> set[int]:
@@ -162,8 +151,8 @@ def on_disk(path: Path, parts: Sequence[np.ndarray]) -> np.ndarray:
 
 
 def check_segments(seq: RunData, train: TrainConfig) -> None:
-    """Refuse before training a recording whose test or imagination segment holds no stretch window."""
-    needed = train.history + (0 if train.include_current else 1)
+    """Refuse before training a recording whose test or imagination segment holds no input window."""
+    needed = train.history + train.lead
     for name in ("test", "imagine"):
         start, end = seq.segment(name)
         if end - start < needed:

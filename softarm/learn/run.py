@@ -15,6 +15,7 @@ from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingE
 from softarm.files import check_outputs, write_json
 from softarm.interrupt import stop_on_signal
 from softarm.learn.observer import Progress, open_observer
+from softarm.model.registry import check_latent_model
 
 DEFAULT_FOLDER = Path("recordings")
 PathLike = Union[str, Path]
@@ -84,6 +85,8 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     start = time.perf_counter()
     if minutes is not None and minutes <= 0:
         raise ConfigError(f"--minutes {minutes:g}: give a positive budget")
+    config = config if config is not None else load_config()
+    check_latent_model(config.train.model)  # an unknown model is refused before any work
     out = Path(out) if out is not None else default_checkpoint(recordings)
     recordings = expand_folders(recordings)
     check_train_outputs(out, rrd, resume, force)
@@ -92,8 +95,7 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     from softarm.learn.train_state import start_state
 
     with tempfile.TemporaryDirectory(prefix=f".{out.stem}-frames-", dir=out.parent) as cache:
-        state = start_state(recordings, config if config is not None else load_config(), out, resume,
-                            Path(cache) if len(recordings) > 1 else None)
+        state = start_state(recordings, config, out, resume, Path(cache) if len(recordings) > 1 else None)
         if minutes is not None and not resume:
             from softarm.learn.budget import fit_to_minutes
 

@@ -10,17 +10,22 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Optional, Sequence, Union
 
+import numpy as np
 import torch
 
 from softarm import __version__
 from softarm.config import Config
 from softarm.errors import CheckpointError
-from softarm.learn.baselines import Baselines
 from softarm.learn.codes import LatentCodes
-from softarm.learn.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
 from softarm.learn.dataset import Dataset, load_dataset
-from softarm.learn.models import Autoencoder, latent_model
-from softarm.learn.scaler import Scaler
+from softarm.model.autoencoder import Autoencoder
+from softarm.model.baselines import Baselines
+from softarm.model.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
+from softarm.model.inputs import Inputs, channels
+from softarm.model.latent import LatentModel, TrainingSeries
+from softarm.model.registry import latent_model_class
+from softarm.model.scaler import Scaler
+
 
 @dataclass
 class TrainState:
@@ -28,14 +33,14 @@ class TrainState:
     data: Dataset
     autoencoder: Autoencoder
     ae_optimizer: torch.optim.Optimizer
-    lstm: Optional[torch.nn.Module] = None   # train.model's network
-    lstm_optimizer: Optional[torch.optim.Optimizer] = None
+    latent: Optional[LatentModel] = None   # the network train.model names
+    latent_optimizer: Optional[torch.optim.Optimizer] = None
     latent_scaler: Optional[Scaler] = None
-    stretch_scaler: Optional[Scaler] = None
-    phase: str = "ae"   # "ae", then "lstm", then "done"
+    inputs: Optional[Inputs] = None        # the input channels with their scalers
+    phase: str = "ae"   # "ae", then "latent", then "done"
     epoch: int = 0      # epochs finished in this phase
     losses: dict[str, list[float]] = field(
-        default_factory=lambda: {"ae_train": [], "ae_test": [], "lstm_train": [], "lstm_val": []})
+        default_factory=lambda: {"ae_train": [], "ae_test": [], "latent_train": [], "latent_val": []})
     _codes: Optional[LatentCodes] = field(default=None, repr=False)
 
     def codes(self) -> LatentCodes:
@@ -46,28 +51,41 @@ class TrainState:
             self._codes = LatentCodes(self.autoencoder, self.data)
         return self._codes
 
-    def make_lstm(self, latent_scaler: Scaler, stretch_scaler: Scaler) -> None:
+    def fit_scalers(self) -> None:
+        """Drop latent features constant over the training frames; normalise latents and every input channel
+        with training statistics."""
+        data = self.data
+        self.latent_scaler = Scaler.fit(self.codes().segment(data, "train"), self.config.train.min_feature_std)
+        training = np.concatenate([s.inputs[slice(*s.segment("train"))] for s in data.sequences])
+        self.inputs = Inputs.fit(data.channels, data.widths, training)
+
+    def make_latent(self) -> None:
         """The latent model and its optimiser, seeded on their own so that resume rebuilds the same network."""
         t = self.config.train
-        self.latent_scaler, self.stretch_scaler = latent_scaler, stretch_scaler
         torch.manual_seed(t.seed + 1)
-        self.lstm = latent_model(t.model, self.data.sensor_count, t.lstm_hidden, latent_scaler.kept)
-        self.lstm_optimizer = torch.optim.Adam(self.lstm.parameters(), lr=t.lr_lstm)
+        self.latent = latent_model_class(t.model)(self.inputs.features, self.latent_scaler.kept, t)
+        self.latent_optimizer = torch.optim.Adam(self.latent.parameters(), lr=t.lr_lstm)
+
+    def training_series(self) -> list[TrainingSeries]:
+        """Every recording's normalised inputs and target latents, as the latent model trains on them."""
+        codes = self.codes()
+        return [TrainingSeries(self.inputs.normalise(seq.inputs).astype(np.float32),
+                               self.latent_scaler.forward(codes.recording(n)).astype(np.float32), seq.segment("train")[1])
+                for n, seq in enumerate(self.data.sequences)]
 
     def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None,
                       baselines: Optional[Baselines] = None) -> dict[str, Any]:
         """Plain tensors, numbers and strings: the file loads with torch.load(weights_only=True)."""
         state: dict[str, Any] = {
-            "softarm_version": __version__, "config": self.config.to_dict(),
-            "image_shape": list(self.data.image_shape), "sensor_count": self.data.sensor_count,
+            "softarm_version": __version__, "config": self.config.to_dict(), "image_shape": list(self.data.image_shape),
             "recordings": self.data.fingerprints(), "progress": {"phase": self.phase, "epoch": self.epoch},
             "losses": self.losses, "autoencoder": self.autoencoder.state_dict(),
-            "lstm": self.lstm.state_dict() if self.lstm is not None else None,
-            "optimizer": (self.ae_optimizer if self.phase == "ae" else self.lstm_optimizer).state_dict(),
+            "latent_model": self.latent.state_dict() if self.latent is not None else None,
+            "optimizer": (self.ae_optimizer if self.phase == "ae" else self.latent_optimizer).state_dict(),
         }
         if self.latent_scaler is not None:
             state["latent_scaler"] = self.latent_scaler.to_state()
-            state["stretch_scaler"] = self.stretch_scaler.to_state()
+            state["inputs"] = self.inputs.to_state()
         if metrics is not None:
             state["metrics"] = metrics
         if baselines is not None:
@@ -89,9 +107,10 @@ class TrainState:
         if self.phase == "ae":
             self.ae_optimizer.load_state_dict(saved["optimizer"])
             return
-        self.make_lstm(Scaler.from_state(saved["latent_scaler"]), Scaler.from_state(saved["stretch_scaler"]))
-        self.lstm.load_state_dict(saved["lstm"])
-        self.lstm_optimizer.load_state_dict(saved["optimizer"])
+        self.latent_scaler, self.inputs = Scaler.from_state(saved["latent_scaler"]), Inputs.from_state(saved["inputs"])
+        self.make_latent()
+        self.latent.load_state_dict(saved["latent_model"])
+        self.latent_optimizer.load_state_dict(saved["optimizer"])
 
 
 def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, resume: bool,
@@ -102,7 +121,7 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
     if saved is not None:
         config = _saved_config(saved, config)
     t = config.train
-    data = load_dataset(paths, t, config.sensing, cache)
+    data = load_dataset(paths, config, channels(), cache)
     torch.manual_seed(t.seed)
     autoencoder = Autoencoder(*data.image_shape, t.latent)
     state = TrainState(config, data, autoencoder, torch.optim.Adam(autoencoder.parameters(), lr=t.lr_ae))

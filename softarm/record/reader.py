@@ -17,9 +17,19 @@ from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
 from mcap.records import Channel, Message, Metadata
 
 from softarm.errors import RecordingError
+from softarm.record.format import (
+    EXCITATION,
+    FORMAT,
+    FORMAT_NAME,
+    FORMAT_VERSION_NUMBER,
+    IMAGE,
+    META_MODEL,
+    META_RUN,
+    NODES,
+    STRETCH,
+    TOPICS,
+)
 from softarm.record.scan import file_records
-from softarm.record.format import (EXCITATION, FORMAT, FORMAT_NAME, FORMAT_VERSION_NUMBER, IMAGE, META_MODEL,
-                                      META_RUN, NODES, STRETCH, TOPICS)
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
 

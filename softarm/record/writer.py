@@ -14,11 +14,20 @@ import orjson
 from softarm import __version__
 from softarm.arm.body import Body
 from softarm.arm.camera import world_to_pixel
-from softarm.config import Config
 from softarm.arm.drive import Drive
+from softarm.config import Config
+from softarm.record.format import (
+    EXCITATION,
+    FORMAT,
+    IMAGE,
+    JSON_SCHEMAS,
+    META_MODEL,
+    META_RUN,
+    NODES,
+    POSITION_DECIMALS,
+    STRETCH,
+)
 from softarm.record.mcap_file import McapFile
-from softarm.record.format import (EXCITATION, FORMAT, IMAGE, JSON_SCHEMAS, META_MODEL, META_RUN, NODES,
-                                      POSITION_DECIMALS, STRETCH)
 
 
 def model_metadata(config: Config, body: Body, drive: Drive, seed: int,

@@ -11,8 +11,8 @@ markers into parity: O(edges x rows crossed + arm width x rows) per frame, on a 
 import numpy as np
 import taichi as ti
 
-from softarm.config import CameraConfig
 from softarm.arm.camera import world_to_pixel
+from softarm.config import CameraConfig
 from softarm.sim.runtime import device_array, host, task_layout, upload
 
 f64nd = ti.types.ndarray(dtype=ti.f64)

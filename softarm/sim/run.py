@@ -10,9 +10,9 @@ import numpy as np
 from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.sensors import stretch
 from softarm.config import Config
+from softarm.errors import RecordingError, SimulationError
 from softarm.files import check_outputs
 from softarm.interrupt import stop_on_signal
-from softarm.errors import RecordingError, SimulationError
 from softarm.record.kept import describe_kept
 from softarm.record.process import RecorderProcess, WriterFailed
 from softarm.record.slots import BlockShape
@@ -90,13 +90,9 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     batch = arm_batch(config)  # config errors first: a refused run creates no folder
     paths = output_paths(config, out)
     check_outputs(paths, force)
-    body, integ = batch.body, config.integration
     block_frames = block_frames_for(config)
-    specs = [(path, model_metadata(config, body, drive, seed, p0, v0), integ.frame_dt)
-             for path, drive, seed, p0, v0 in zip(paths, batch.drives, batch.seeds, batch.positions, batch.velocities)]
     # The writers fork before Taichi starts its threads: a child never inherits a lock held by one of them.
-    recorder = RecorderProcess(specs, BlockShape(batch.arms, block_frames, config.camera.height, config.camera.width,
-                                                 len(body.sensors), body.n_nodes))
+    recorder = start_recorder(config, batch, paths, block_frames)
     try:
         init_taichi(arch)
         sim = Simulator.from_config(config, batch, block_frames)
@@ -104,7 +100,7 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
         recorder.discard()
         raise
     try:
-        camera = Rasteriser(config.camera, body.outline, batch.arms, block_frames)
+        camera = Rasteriser(config.camera, batch.body.outline, batch.arms, block_frames)
         laps.lap("setup")
         done, complete = record_blocks(config, batch, sim, camera, recorder, laps, progress)
     except SimulationError:  # a blow-up leaves nothing behind
@@ -122,7 +118,16 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     finally:
         sim.close()
     return SimResult(paths=paths, frames=done, complete=complete, wall_seconds=time.perf_counter() - start,
-                     simulated_seconds=done * integ.frame_dt, stage_seconds=laps.seconds)
+                     simulated_seconds=done * config.integration.frame_dt, stage_seconds=laps.seconds)
+
+
+def start_recorder(config: Config, batch: ArmBatch, paths: list[Path], block_frames: int) -> RecorderProcess:
+    """The writer processes of a run, each file opened with its arm's model metadata."""
+    body = batch.body
+    specs = [(path, model_metadata(config, body, drive, seed, p0, v0), config.integration.frame_dt)
+             for path, drive, seed, p0, v0 in zip(paths, batch.drives, batch.seeds, batch.positions, batch.velocities)]
+    return RecorderProcess(specs, BlockShape(batch.arms, block_frames, config.camera.height, config.camera.width,
+                                             len(body.sensors), body.n_nodes))
 
 
 def record_blocks(config: Config, batch: ArmBatch, sim: "Simulator", camera: "Rasteriser", recorder: RecorderProcess,

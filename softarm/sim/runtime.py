@@ -7,8 +7,9 @@ from typing import Union
 import numpy as np
 import taichi as ti
 
-from softarm.sim import check_arch
 from softarm.errors import SoftarmError
+from softarm.sim import check_arch
+
 _started: list[str] = []
 
 

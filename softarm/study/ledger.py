@@ -65,7 +65,7 @@ def read_records(folder: Path) -> list[TrialRecord]:
         try:
             records.append(TrialRecord(**json.loads(line)))
         except (json.JSONDecodeError, TypeError):
-            warnings.warn(f"{path}:{number} is not a trial record; it is ignored")
+            warnings.warn(f"{path}:{number} is not a trial record; it is ignored", stacklevel=2)
     return records
 
 

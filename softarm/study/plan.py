@@ -23,6 +23,7 @@ from typing import Any, Union
 
 from softarm.config import load_config
 from softarm.errors import ConfigError
+from softarm.model.registry import check_latent_model
 
 Value = Union[int, float, str]
 STUDY_KEYS = ("name", "variable", "description", "quick", "trials")
@@ -106,9 +107,10 @@ def format_value(value: Value) -> str:
 
 
 def check_overrides(overrides: dict[str, Any], where: str) -> None:
-    """load_config's check of the overrides, its message prefixed with where they come from."""
+    """load_config's check of the overrides and the latent model they name, the message prefixed with where they
+    come from."""
     try:
-        load_config(overrides=overrides)
+        check_latent_model(load_config(overrides=overrides).train.model)
     except ConfigError as e:
         raise ConfigError(f"{where}: {e}") from None
 

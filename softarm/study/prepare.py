@@ -11,13 +11,15 @@ import shutil
 from pathlib import Path
 from typing import Callable, Optional
 
-from softarm.corpus.build import MANIFEST as CORPUS_MANIFEST, write_corpus
+from softarm.corpus.build import MANIFEST as CORPUS_MANIFEST
+from softarm.corpus.build import write_corpus
 from softarm.corpus.presets import PRESETS, arms_per_group
 from softarm.errors import OutputError, RecordingError
 from softarm.files import write_json
 from softarm.study.scale import Scale
 from softarm.suite.build import write_suite
-from softarm.suite.manifest import MANIFEST as SUITE_MANIFEST, read_suite
+from softarm.suite.manifest import MANIFEST as SUITE_MANIFEST
+from softarm.suite.manifest import read_suite
 
 StageProgress = Callable[[str, int, int], None]  # (stage, done, total)
 

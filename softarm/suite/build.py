@@ -13,9 +13,17 @@ from softarm.config import load_config
 from softarm.errors import SoftarmError
 from softarm.files import write_json
 from softarm.sim.groups import fresh_manifest, simulate_groups
-from softarm.suite.families import (CANDIDATES, DURATION, FAMILIES, SEEDS_PER_LEVEL, SUITE_SEED_BASE, SUITE_VERSION,
-                                    level_seeds)
+from softarm.suite.families import (
+    CANDIDATES,
+    DURATION,
+    FAMILIES,
+    SEEDS_PER_LEVEL,
+    SUITE_SEED_BASE,
+    SUITE_VERSION,
+    level_seeds,
+)
 from softarm.suite.manifest import MANIFEST
+
 
 def write_suite(folder: Union[str, Path], force: bool = False, arch: str = "cpu",
                 progress: Optional[Callable[[int, int], None]] = None) -> Optional[Path]:

@@ -1,7 +1,7 @@
 """`softarm evaluate`: a checkpoint's imagination on every family of the suite, beside the trivial answers.
 
 Per family, over every imagined frame of its recordings: IoU, BCE and tip error of the model, of the
-mean training frame, of the ridge map from the same stretch windows (both fitted at training time
+mean training frame, of the ridge map from the same input windows (both fitted at training time
 and kept in the checkpoint) and of the AE ceiling (decode the true frame's own code: the best any
 latent predictor can do). Skill = (IoU - IoU_mean) / (IoU_ceiling - IoU_mean): the share of the
 reachable gain above the trivial answer, which raw IoU hides where the arm hardly moves. Over every
@@ -9,13 +9,15 @@ frame of the suite, the confidence figures say how well the model's own trust ra
 """
 
 from pathlib import Path
-from typing import Any, Callable, Optional, Union
+from typing import TYPE_CHECKING, Any, Callable, Optional, Union
 
 import numpy as np
 
 from softarm.suite.manifest import SuiteCase, read_suite
 
-ANSWERS = ("model", "mean_frame", "ridge", "ae_ceiling")
+if TYPE_CHECKING:
+    from softarm.model.trained import TrainedModel
+
 LEAST_TRUSTED = 0.1  # share of frames whose IoU the confidence figures single out
 Progress = Callable[[int, int], None]
 
@@ -27,11 +29,11 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
     Each level is read with the imperfections the suite gives it, over those the checkpoint was trained
     with; `sensor_noise` replaces both for every level.
     """
-    from softarm.learn.checkpoint import load_checkpoint  # torch loads here, not when softarm is imported
+    from softarm.model.answers import ANSWERS  # torch loads here, not when softarm is imported
+    from softarm.model.trained import TrainedModel
 
     suite = read_suite(folder)
-    state = load_checkpoint(checkpoint)
-    scorer = CaseScorer(state, Path(checkpoint))
+    scorer = CaseScorer(TrainedModel(checkpoint))
     per_family: dict[str, dict[str, list[dict[str, np.ndarray]]]] = {f: {a: [] for a in ANSWERS} for f in suite.families}
     confidence, iou = [], []
     for done, case in enumerate(suite.cases, 1):
@@ -50,51 +52,41 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
 
 
 class CaseScorer:
-    """Everything that is the same for every recording: networks, scalers, baselines, sensors."""
+    """One trained model scoring recording after recording."""
 
-    def __init__(self, state: dict[str, Any], checkpoint: Path):
-        from softarm.learn.imaginer import Imaginer
-        from softarm.learn.baselines import Baselines
-        self.state, self.checkpoint = state, checkpoint
-        self.imaginer = Imaginer.from_checkpoint(state)
-        self.baselines = Baselines.from_checkpoint(state)
+    def __init__(self, model: "TrainedModel"):
+        self.model = model
 
     def score(self, case: SuiteCase, sensor_noise: Optional[dict[str, Any]]
               ) -> tuple[dict[str, dict[str, np.ndarray]], np.ndarray]:
         """Per-frame scores of every answer on one recording, and the model's confidence in each frame."""
-        from softarm.imagine.replay import read_as_trained
-        from softarm.learn.baselines import ridge_predict
-        from softarm.learn.codes import encode_frames
-        from softarm.learn.metrics import frame_scores
+        from softarm.model.answers import score_answers
+        from softarm.model.autoencoder import encode_frames
 
-        noise = sensor_noise if sensor_noise is not None else case.sensing
-        rec, stretch, _ = read_as_trained(self.state, self.checkpoint, case.path, noise)
-        imaginer = self.imaginer
-        windows, targets = imaginer.windows(stretch)
-        truth = rec.frames[targets]
-        ridge = ridge_predict(self.baselines.ridge, imaginer.stretch_scaler.forward(windows))
+        reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing)
+        imaginer = self.model.imaginer
+        windows, targets = imaginer.windows(reading.inputs)
+        truth = reading.recording.frames[targets]
         ceiling = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, truth))
-        ppm = rec.pixels_per_metre
-        prediction = imaginer.predict(stretch)
-        answers = {"model": imaginer.decode(prediction.latents), "ridge": imaginer.decode(ridge),
-                   "ae_ceiling": imaginer.decode(ceiling),
-                   "mean_frame": np.broadcast_to(self.baselines.mean_frame, truth.shape)}
-        return {name: frame_scores(probs, truth, ppm) for name, probs in answers.items()}, prediction.confidence
+        prediction = imaginer.predict(reading.inputs)
+        scores = score_answers(imaginer, self.model.baselines, truth, prediction.latents, windows, ceiling,
+                               reading.recording.pixels_per_metre)
+        return scores, prediction.confidence
 
 
 def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, Any]:
     """One family's row: the model's means and skill, the frame count, and every baseline's means."""
-    from softarm.learn.metrics import summarise
+    from softarm.model.metrics import summarise
 
-    means = {answer: summarise({k: np.concatenate([p[k] for p in parts[answer]]) for k in parts[answer][0]})
-             for answer in ANSWERS}
+    means = {answer: summarise({k: np.concatenate([p[k] for p in scores]) for k in scores[0]})
+             for answer, scores in parts.items()}
     row = {key: means["model"][key] for key in ("iou", "bce")}
     row["tip_error_mm"] = means["model"]["tip_mm"]
     row["tip_error_median_mm"] = float(np.nanmedian(np.concatenate([p["tip_mm"] for p in parts["model"]])))
     row["skill"] = skill(means["model"]["iou"], means["mean_frame"]["iou"], means["ae_ceiling"]["iou"])
     row["frames"] = int(sum(len(p["iou"]) for p in parts["model"]))
     row["baselines"] = {answer: {"iou": means[answer]["iou"], "bce": means[answer]["bce"],
-                                 "tip_error_mm": means[answer]["tip_mm"]} for answer in ANSWERS[1:]}
+                                 "tip_error_mm": means[answer]["tip_mm"]} for answer in parts if answer != "model"}
     row["baselines"]["ridge"]["skill"] = skill(means["ridge"]["iou"], means["mean_frame"]["iou"],
                                                means["ae_ceiling"]["iou"])
     return row
@@ -103,7 +95,7 @@ def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, An
 def confidence_scores(confidence: np.ndarray, iou: np.ndarray) -> dict[str, float]:
     """How well the confidence ranks imagined frames by their true IoU, over every frame of the suite: the
     Spearman correlation, and the mean IoU of the least-trusted LEAST_TRUSTED of frames against the rest's."""
-    from softarm.learn.metrics import spearman
+    from softarm.model.metrics import spearman
 
     order = np.argsort(confidence, kind="stable")
     low = order[:max(1, round(len(order) * LEAST_TRUSTED))]

@@ -1,5 +1,5 @@
 """The replay timeline in Rerun: camera (with the arm's nodes) | imagined | difference | fused on top,
-stretch, excitation and per-frame IoU below, all on the `sim_time` timeline. It logs; `softarm.imagine`
+the input channels (the stretch), excitation and per-frame IoU below, all on the `sim_time` timeline. It logs; `softarm.imagine`
 computed everything."""
 
 from pathlib import Path
@@ -15,12 +15,13 @@ from softarm.view.stream import RerunStream, send_images
 IMAGES = ("camera", "imagined", "difference", "fused")
 
 
-def replay_blueprint() -> rrb.Blueprint:
-    """Camera | imagined | difference | fused on top; stretch, excitation, IoU and confidence below, on sim_time."""
+def replay_blueprint(channels: list[str]) -> rrb.Blueprint:
+    """Camera | imagined | difference | fused on top; every input channel, the excitation, IoU and confidence
+    below, on sim_time."""
     return rrb.Blueprint(
         rrb.Vertical(
             rrb.Horizontal(*(rrb.Spatial2DView(origin=name, name=name) for name in IMAGES)),
-            rrb.Horizontal(rrb.TimeSeriesView(origin="signals/stretch", name="stretch (m)"),
+            rrb.Horizontal(*(rrb.TimeSeriesView(origin=f"signals/{name}", name=f"{name} (input)") for name in channels),
                            rrb.TimeSeriesView(origin="signals/excitation", name="excitation (m)"),
                            rrb.TimeSeriesView(origin="signals/iou", name="imagination IoU"),
                            rrb.TimeSeriesView(origin="signals/confidence", name="confidence")),
@@ -38,7 +39,7 @@ def log_replay(result: Any, rrd: Optional[Path] = None, spawn: bool = False,
     """
     if rrd is None and not spawn:
         return None
-    stream = RerunStream("softarm-replay", replay_blueprint(), rrd=rrd, spawn=spawn)
+    stream = RerunStream("softarm-replay", replay_blueprint([name for name, _ in result.channels]), rrd=rrd, spawn=spawn)
     try:
         _log_images(stream.rec, result, imagined_bytes)
         _log_signals(stream.rec, result)
@@ -70,8 +71,12 @@ def _log_images(rec: rr.RecordingStream, result: Any, imagined_bytes: Optional[n
 
 def _log_signals(rec: rr.RecordingStream, result: Any) -> None:
     times = [rr.TimeColumn("sim_time", duration=result.times)]
-    for i in range(result.stretch.shape[1]):  # what the imagination read: imperfections included
-        rec.send_columns(f"signals/stretch/{i}", indexes=times, columns=rr.Scalars.columns(scalars=result.stretch[:, i]))
+    column = 0
+    for name, width in result.channels:  # what the imagination read: the sensors' imperfections included
+        for i in range(width):
+            rec.send_columns(f"signals/{name}/{i}", indexes=times,
+                             columns=rr.Scalars.columns(scalars=result.inputs[:, column + i]))
+        column += width
     rec.send_columns("signals/excitation", indexes=times,
                      columns=rr.Scalars.columns(scalars=result.recording.displacement))
     seen = result.predicted

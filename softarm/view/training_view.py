@@ -1,7 +1,7 @@
 """The live view of `softarm train`: loss curves and, each epoch, a held-out clip side by side.
 
 Losses are points on the sequence timeline `step` (optimisation steps over both networks, so the
-LSTM's curve continues after the autoencoder's). Each clip is three image entities, `clip/truth`,
+latent model's curve continues after the autoencoder's). Each clip is three image entities, `clip/truth`,
 `clip/reconstruction` and `clip/imagination`, on the timelines `clip_time` (seconds into the clip)
 and `step`. It logs; it computes nothing.
 """
@@ -41,7 +41,7 @@ class TrainingView:
         self._closed = False
 
     def loss(self, name: str, step: int, value: float) -> None:
-        """One point of the curve `loss/<name>` (e.g. ae_train, ae_test, lstm_train, lstm_val) at `step`."""
+        """One point of the curve `loss/<name>` (e.g. ae_train, ae_test, latent_train, latent_val) at `step`."""
         self._rec.set_time("step", sequence=step)
         self._rec.log(f"loss/{name}", rr.Scalars(float(value)))
 
@@ -56,7 +56,7 @@ class TrainingView:
         indexes = [rr.TimeColumn("step", sequence=np.full(len(times), step, np.int64)),
                    rr.TimeColumn("clip_time", duration=times)]
         for name, frames in zip(CLIPS, (truth, reconstruction, imagination)):
-            if frames is None:  # e.g. no imagination before the LSTM is trained
+            if frames is None:  # e.g. no imagination before the latent model is trained
                 continue
             frames = np.asarray(frames)
             if frames.ndim != 3 or len(frames) != len(times):

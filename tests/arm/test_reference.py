@@ -3,12 +3,21 @@
 import numpy as np
 import pytest
 
-from oscillator import MASS, REST_LENGTH, STIFFNESS, STILL, analytic_rates, measured_rates, one_spring, pulled
 from softarm.arm.body import build_body
-from softarm.arm.statics import hanging_equilibrium
-from softarm.config import load_config
 from softarm.arm.drive import drive_for_seed
 from softarm.arm.reference import simulate_reference
+from softarm.arm.statics import hanging_equilibrium
+from softarm.config import load_config, override
+from tests.helpers.oscillator import (
+    MASS,
+    REST_LENGTH,
+    STIFFNESS,
+    STILL,
+    analytic_rates,
+    measured_rates,
+    one_spring,
+    pulled,
+)
 
 
 def test_one_mass_rings_at_the_damped_frequency_and_decays_at_zeta_w0():
@@ -26,7 +35,7 @@ def test_one_mass_rings_at_the_damped_frequency_and_decays_at_zeta_w0():
 def test_arm_started_at_its_hanging_equilibrium_stays_put():
     config = load_config()
     body = build_body(config)
-    still = drive_for_seed(config.replace(**{"excitation.amplitude": 0.0}).excitation, 0)
+    still = drive_for_seed(override(config, {"excitation.amplitude": 0.0}).excitation, 0)
     x = hanging_equilibrium(body)
     out = simulate_reference(body, still, x, np.zeros_like(x), config.integration.frame_dt,
                              config.integration.substeps, 50)

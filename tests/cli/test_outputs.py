@@ -2,7 +2,7 @@
 
 import pytest
 
-from cli_helpers import assert_one_line_error, softarm
+from tests.helpers.cli import assert_one_line_error, softarm
 
 
 @pytest.mark.parametrize("command", ["train", "replay"])

@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from cli_helpers import softarm
+from tests.helpers.cli import softarm
 
 
 def python(code: str, cwd) -> subprocess.CompletedProcess:
@@ -26,7 +26,7 @@ def test_public_api_names_the_whole_pipeline():
 
     assert {"load_config", "simulate", "read_recording", "train", "replay"} <= set(softarm.__all__)
     with pytest.raises(AttributeError):
-        softarm.no_such_function
+        _ = softarm.no_such_function
 
 
 def test_the_cli_installs_as_softarm_cli_and_no_package_called_cli(tmp_path):

@@ -72,7 +72,7 @@ def test_bad_values_name_the_key_and_what_is_allowed(overrides, words):
 
 
 def test_softarm_config_prints_a_file_that_loads_as_the_defaults(tmp_path):
-    from cli_helpers import softarm
+    from tests.helpers.cli import softarm
 
     result = softarm("config", cwd=tmp_path)
     assert result.returncode == 0

@@ -5,12 +5,12 @@ import json
 
 import pytest
 
-from cli_helpers import assert_one_line_error, softarm
 from softarm.arm.drive import HELD_OUT_SEED_BASE
 from softarm.corpus.build import write_corpus
 from softarm.corpus.presets import PRESETS, arms_per_group, seeds_of
-from softarm.learn.checkpoint import load_checkpoint
+from softarm.model.checkpoint import load_checkpoint
 from softarm.record.reader import read_recording
+from tests.helpers.cli import assert_one_line_error, softarm
 
 
 @pytest.mark.parametrize("arms", [1, 15, 64, 1000])

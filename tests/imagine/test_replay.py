@@ -12,8 +12,8 @@ import rerun as rr
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
-from cli_helpers import assert_one_line_error, softarm
 from softarm.imagine.replay import compute_replay
+from tests.helpers.cli import assert_one_line_error, softarm
 
 RERUN = str(Path(sys.executable).with_name("rerun"))
 
@@ -44,13 +44,13 @@ def test_imagination_mcap_decodes_with_a_plain_mcap_reader(outputs, recordings):
     with open(folder / "i.mcap", "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         meta = {m.name: m.metadata for m in reader.iter_metadata()}
-        for schema, channel, message, decoded in reader.iter_decoded_messages(topics=["/imagination/image"]):
+        for _, _, message, decoded in reader.iter_decoded_messages(topics=["/imagination/image"]):
             assert decoded.encoding == "mono8" and (decoded.height, decoded.width) == (84, 52)
             images.append(message.log_time)
-        for schema, channel, message in reader.iter_messages(topics=["/imagination/iou"]):
+        for schema, _, message in reader.iter_messages(topics=["/imagination/iou"]):
             assert schema.encoding == "jsonschema" and json.loads(schema.data)["properties"]["iou"]
             ious.append((message.log_time, json.loads(message.data)["iou"]))
-        for schema, channel, message in reader.iter_messages(topics=["/imagination/confidence"]):
+        for schema, _, message in reader.iter_messages(topics=["/imagination/confidence"]):
             assert json.loads(schema.data)["properties"]["confidence"]
             trust.append((message.log_time, json.loads(message.data)["confidence"]))
     # 4 s at 100 Hz, history 6: frames 6..399, at the source frames' times
@@ -105,7 +105,7 @@ def test_a_file_that_is_not_a_checkpoint_is_refused(recordings, tmp_path):
 
 
 def test_fused_scores_equal_scoring_the_fused_frames_directly(recordings, tiny_checkpoint):
-    from softarm.learn.metrics import frame_scores, summarise
+    from softarm.model.metrics import frame_scores, summarise
     result = compute_replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", [(1.0, 2.5)])
     direct = summarise(frame_scores(result.fused.astype(np.float64), result.recording.frames, 400.0))
     for key, value in result.metrics["fused"].items():

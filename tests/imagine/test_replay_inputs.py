@@ -1,7 +1,7 @@
 """Replay on recordings it did not expect: another image size is refused, a truncated one is used
 with a warning."""
 
-from cli_helpers import assert_one_line_error, softarm
+from tests.helpers.cli import assert_one_line_error, softarm
 
 
 def test_recording_with_another_image_size_is_refused(tiny_checkpoint, tmp_path):

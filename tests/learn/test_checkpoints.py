@@ -8,9 +8,9 @@ import time
 
 import torch
 
-from cli_helpers import SOFTARM, assert_one_line_error, softarm
-from conftest import TINY
-from softarm.learn.checkpoint import load_checkpoint
+from softarm.model.checkpoint import load_checkpoint
+from tests.helpers.cli import SOFTARM, assert_one_line_error, softarm
+from tests.helpers.tiny import TINY
 
 
 def tiny_config(folder):

@@ -3,18 +3,19 @@ realisation for the same seed, and a checkpoint that replays with the sensors it
 
 import numpy as np
 
-from conftest import TINY
 from softarm.config import load_config
 from softarm.imagine.replay import compute_replay
 from softarm.learn.dataset import load_dataset
 from softarm.learn.run import train
+from softarm.model.inputs import channels
+from tests.helpers.tiny import TINY
 
 
 def test_the_dataset_reads_the_configured_imperfections_reproducibly(recordings):
     config = load_config(overrides={"sensing.noise": 1e-4, "sensing.seed": 3})
-    ideal = load_dataset([recordings / "s0.mcap"], config.train, load_config().sensing).sequences[0].stretch
-    noisy = load_dataset([recordings / "s0.mcap"], config.train, config.sensing).sequences[0].stretch
-    again = load_dataset([recordings / "s0.mcap"], config.train, config.sensing).sequences[0].stretch
+    ideal = load_dataset([recordings / "s0.mcap"], load_config(), channels()).sequences[0].inputs
+    noisy = load_dataset([recordings / "s0.mcap"], config, channels()).sequences[0].inputs
+    again = load_dataset([recordings / "s0.mcap"], config, channels()).sequences[0].inputs
     assert abs(np.std(noisy - ideal) - 1e-4) < 5e-6
     np.testing.assert_array_equal(noisy, again)
 
@@ -25,7 +26,7 @@ def test_a_checkpoint_of_other_pairs_replays_any_recording_with_its_own_pairs(re
     trained = train([recordings / "s0.mcap"], config, tmp_path / "pairs.pt")
     assert trained.complete
     result = compute_replay(trained.checkpoint, recordings / "s1.mcap", nodes=False)
-    assert result.stretch.shape == (len(result.times), 2)
+    assert result.inputs.shape == (len(result.times), 2)
     assert result.metrics["sensing"]["pairs"] == pairs
     recorded = result.recording.stretch
-    assert not np.allclose(result.stretch[:, 0], recorded[:, 0])  # recomputed, not the recorded sensor 0
+    assert not np.allclose(result.inputs[:, 0], recorded[:, 0])  # recomputed, not the recorded sensor 0

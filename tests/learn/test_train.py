@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 import torch
 
-from cli_helpers import assert_one_line_error, softarm
-from softarm.learn.checkpoint import load_checkpoint
 from softarm.config import load_config
-from softarm.learn.scaler import Scaler
-from softarm.learn.imaginer import Imaginer
 from softarm.learn.run import train
+from softarm.model.checkpoint import load_checkpoint
+from softarm.model.imaginer import Imaginer
+from softarm.model.scaler import Scaler
+from tests.helpers.cli import assert_one_line_error, softarm
+from tests.helpers.tiny import TINY
 
-from conftest import TINY
 
 def test_training_learns_and_beats_the_mean_frame(tiny_checkpoint):
     trained = tiny_checkpoint
@@ -21,12 +21,12 @@ def test_training_learns_and_beats_the_mean_frame(tiny_checkpoint):
     state = load_checkpoint(trained.checkpoint)
     losses = state["losses"]
     assert losses["ae_train"][-1] < 0.5 * losses["ae_train"][0]
-    assert losses["lstm_train"][-1] < losses["lstm_train"][0]
+    assert losses["latent_train"][-1] < losses["latent_train"][0]
     m = trained.metrics
     assert m["counts"] == {**m["counts"], "train_frames": 340, "test_frames": 40, "imagination_predictions": 14}
     assert m["autoencoder_test"]["iou"] > 0.8
-    lstm, mean = m["imagination"]["lstm"], m["imagination"]["mean_frame"]
-    assert lstm["iou"] > mean["iou"] and lstm["bce"] < mean["bce"]
+    model, mean = m["imagination"]["model"], m["imagination"]["mean_frame"]
+    assert model["iou"] > mean["iou"] and model["bce"] < mean["bce"]
     assert json.loads(trained.metrics_path.read_text()) == json.loads(json.dumps(m))
 
 
@@ -35,7 +35,7 @@ def test_checkpoint_loads_with_weights_only_and_rebuilds_the_imaginer(tiny_check
     state = torch.load(trained.checkpoint, weights_only=True)
     imaginer = Imaginer.from_checkpoint(state)
     assert state["recordings"][0]["name"] == "s0.mcap" and len(state["recordings"][0]["sha256"]) == 16
-    assert state["image_shape"] == [84, 52] and state["sensor_count"] == 4
+    assert state["image_shape"] == [84, 52] and [(i["name"], i["features"]) for i in state["inputs"]] == [("stretch", 4)]
     stretch = np.random.default_rng(0).normal(0, 1e-3, (20, 4))
     prediction, probs = imaginer.imagine(stretch)
     assert prediction.targets.tolist() == list(range(6, 20)) and probs.shape == (14, 84, 52)
@@ -109,7 +109,7 @@ def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_th
 
     config = load_config(overrides={**TINY, "train.epochs_ae": 400, "train.epochs_lstm": 4000})  # hours of work
     monkeypatch.setattr(budget, "_autoencoder_step", lambda state: 0.01)  # measured step times, fixed here
-    monkeypatch.setattr(budget, "_lstm_step", lambda state: 0.001)
+    monkeypatch.setattr(budget, "_latent_step", lambda state: 0.001)
     state = start_state([recordings / "s0.mcap"], config, tmp_path / "x.pt", resume=False)
     ae, lstm = schedules(state)
     budget.fit_to_minutes(state, minutes=1.0, spent=6.0)

@@ -4,7 +4,8 @@ import pytest
 
 from softarm.config import load_config
 from softarm.learn.dataset import load_dataset, validation_indices
-from conftest import TINY
+from softarm.model.inputs import channels
+from tests.helpers.tiny import TINY
 
 
 def test_validation_recordings_are_spread_over_a_corpus_and_none_of_a_few():
@@ -25,7 +26,7 @@ def corpus(tmp_path_factory):
 
 def test_a_held_out_recording_trains_nothing_and_is_validated_whole(corpus):
     config = load_config()
-    data = load_dataset(corpus, config.train, config.sensing)
+    data = load_dataset(corpus, config, channels())
     assert [s.held_out for s in data.sequences] == [False, False, True, False, False]
     held = data.sequences[2]
     assert held.segment("train") == (0, 0) and held.segment("test") == (0, 190)
@@ -39,5 +40,5 @@ def test_training_on_a_corpus_reports_the_held_out_recordings(corpus, tmp_path):
                    tmp_path / "c.pt")
     validation = result.metrics["validation"]
     assert validation["recordings"] == [corpus[2].name]
-    assert set(validation) >= {"lstm", "ridge", "mean_frame", "ae_ceiling"}
-    assert 0 <= validation["lstm"]["iou"] <= 1
+    assert set(validation) >= {"model", "ridge", "mean_frame", "ae_ceiling"}
+    assert 0 <= validation["model"]["iou"] <= 1

@@ -11,13 +11,13 @@ import warnings
 import psutil
 import pytest
 
-from cli_helpers import SOFTARM, assert_one_line_error, files_under, softarm
 from softarm.config import load_config
 from softarm.files import part_path
 from softarm.record.mcap_writer import McapWriter
 from softarm.record.process import WriterFailed
 from softarm.record.reader import TruncatedRecordingWarning, count_frames, read_recording
 from softarm.sim.run import simulate
+from tests.helpers.cli import SOFTARM, assert_one_line_error, files_under, softarm
 
 
 def start(*args: str, cwd) -> subprocess.Popen:

@@ -6,9 +6,9 @@ import warnings
 import numpy as np
 from mcap.writer import Writer
 
-from cli_helpers import assert_one_line_error, softarm
 from softarm.errors import RecordingError
 from softarm.record.reader import TruncatedRecordingWarning, read_recording
+from tests.helpers.cli import assert_one_line_error, softarm
 
 
 def write_mcap(path, metadata=None):

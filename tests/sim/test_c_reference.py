@@ -1,15 +1,10 @@
 """The benchmark's hand-written C physics against the NumPy reference: it must compute the same run."""
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "bench"))  # bench/ is not a package
-
-from c_reference import CReference, find_compiler  # noqa: E402
-from runs import assert_batch_equals_single_runs, reference_run  # noqa: E402
+from bench.c_reference import CReference, find_compiler
+from tests.helpers.runs import assert_batch_equals_single_runs, reference_run
 
 pytestmark = pytest.mark.skipif(find_compiler() is None, reason="no C compiler (cc or gcc) on PATH")
 

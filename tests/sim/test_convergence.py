@@ -3,13 +3,13 @@
 import numpy as np
 
 from softarm.arm.batch import arm_batch
-from softarm.config import load_config
+from softarm.config import load_config, override
 from softarm.sim.physics import Simulator
 
 
 def positions(config, substeps: int, n_frames: int) -> np.ndarray:
     """Seeds 0 and 1 started as a real run starts them, stepped with `substeps`."""
-    config = config.replace(**{"integration.substeps": substeps})
+    config = override(config, {"integration.substeps": substeps})
     return Simulator.from_config(config, arm_batch(config, seeds=(0, 1))).advance(n_frames)
 
 

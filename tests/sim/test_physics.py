@@ -3,8 +3,6 @@
 import numpy as np
 import pytest
 
-from oscillator import REST_LENGTH, STILL, analytic_rates, measured_rates, one_spring, pulled
-from runs import assert_batch_equals_single_runs, reference_run
 from softarm.arm.batch import arm_batch
 from softarm.arm.body import build_body
 from softarm.arm.drive import drive_for_seed
@@ -13,6 +11,8 @@ from softarm.arm.statics import hanging_equilibrium
 from softarm.config import load_config
 from softarm.errors import SimulationError
 from softarm.sim.physics import Simulator
+from tests.helpers.oscillator import REST_LENGTH, STILL, analytic_rates, measured_rates, one_spring, pulled
+from tests.helpers.runs import assert_batch_equals_single_runs, reference_run
 
 
 @pytest.mark.parametrize("seed", [0, 1])  # seed 1 checks the time offset t0 (about 51 s) too

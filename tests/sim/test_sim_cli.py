@@ -7,8 +7,8 @@ import time
 import numpy as np
 import pytest
 
-from cli_helpers import SOFTARM, assert_one_line_error, files_under, softarm
 from softarm.record.reader import read_recording
+from tests.helpers.cli import SOFTARM, assert_one_line_error, files_under, softarm
 
 
 def test_short_run_writes_a_readable_recording_and_a_summary(tmp_path):

@@ -3,11 +3,11 @@ that refuse a user's study file in one line naming the bad key, before anything 
 
 import pytest
 
-from cli_helpers import assert_one_line_error, softarm
 from softarm.config import load_config
 from softarm.errors import ConfigError
 from softarm.study.builtin import BUILTIN, SENSOR_COUNTS, load_study
 from softarm.study.placements import MAX_SPAN, PLACEMENTS, sensor_pairs
+from tests.helpers.cli import assert_one_line_error, softarm
 
 GOOD = '''name = "mine"
 variable = "latent features"

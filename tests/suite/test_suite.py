@@ -7,10 +7,10 @@ import shutil
 import numpy as np
 import pytest
 
-from cli_helpers import assert_one_line_error, softarm
 from softarm.record.reader import read_recording
 from softarm.suite.families import FAMILIES, SEED_BLOCK, SUITE_SEED_BASE, SUITE_VERSION, level_seeds
 from softarm.suite.manifest import read_suite
+from tests.helpers.cli import assert_one_line_error, softarm
 
 
 @pytest.fixture(scope="session")
@@ -121,7 +121,7 @@ def test_ctrl_c_stops_the_suite_without_a_manifest(tmp_path):
     import subprocess
     import time
 
-    from cli_helpers import SOFTARM
+    from tests.helpers.cli import SOFTARM
 
     proc = subprocess.Popen([SOFTARM, "suite", str(tmp_path), "-q"], cwd=tmp_path, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)

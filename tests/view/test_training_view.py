@@ -72,14 +72,14 @@ def test_clip_reads_back_as_grayscale_bytes_on_both_timelines(rrd):
         np.testing.assert_allclose(seconds, TIMES)
 
 
-def test_training_view_continues_the_lstm_losses_after_the_autoencoders_on_one_step_axis(tiny_checkpoint):
+def test_training_view_continues_the_latent_models_losses_after_the_autoencoders_on_one_step_axis(tiny_checkpoint):
     """Every loss point of a real training sits at its optimisation step: the LSTM's curve starts where
     the autoencoder's ends, and each clip is logged at the step of the epoch that made it."""
-    from conftest import TINY
+    from tests.helpers.tiny import TINY
 
     rrd = tiny_checkpoint.checkpoint.with_name("tiny.rrd")
     ae_steps = rows(rrd, "/loss/ae_train")["step"].to_pylist()
-    lstm_steps = rows(rrd, "/loss/lstm_train")["step"].to_pylist()
+    lstm_steps = rows(rrd, "/loss/latent_train")["step"].to_pylist()
     per_epoch = -(-340 // TINY["train.batch_ae"])  # 340 training frames in batches of 32
     assert ae_steps == [per_epoch * (e + 1) for e in range(TINY["train.epochs_ae"])]
     assert len(lstm_steps) == TINY["train.epochs_lstm"] and lstm_steps[0] > ae_steps[-1]

@@ -4,15 +4,14 @@ same signals, for either model."""
 import numpy as np
 import pytest
 
-from softarm.learn.checkpoint import load_checkpoint
-from softarm.learn.imaginer import Imaginer
-from softarm.learn.stream import StreamingImaginer
+from softarm import StreamingImaginer
+from softarm.model.trained import TrainedModel
 from softarm.record.reader import read_recording
 
 
 @pytest.mark.parametrize("fixture", ["tiny_window_checkpoint", "tiny_checkpoint"])
 def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
-    imaginer = Imaginer.from_checkpoint(load_checkpoint(request.getfixturevalue(fixture).checkpoint))
+    imaginer = TrainedModel(request.getfixturevalue(fixture).checkpoint).imaginer
     stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch
     prediction, batch = imaginer.imagine(stretch)
     stream = StreamingImaginer(imaginer)
@@ -31,7 +30,7 @@ def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
 
 @pytest.mark.parametrize("fixture, remembers", [("tiny_window_checkpoint", False), ("tiny_checkpoint", True)])
 def test_only_the_stream_model_remembers_samples_older_than_its_window(recordings, fixture, remembers, request):
-    imaginer = Imaginer.from_checkpoint(load_checkpoint(request.getfixturevalue(fixture).checkpoint))
+    imaginer = TrainedModel(request.getfixturevalue(fixture).checkpoint).imaginer
     stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch
     changed = stretch.copy()
     changed[:100] += 1e-4  # the first second: frame 110's 6-sample window starts 4 samples later

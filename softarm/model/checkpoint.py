@@ -1,9 +1,10 @@
 """Checkpoint files: one torch file of plain tensors, numbers and strings.
 
 Everything in it loads with `torch.load(path, weights_only=True)`: the state dicts, the config, the
-feature filter and normalisation, the fingerprints of the recordings it was trained on, how far
-training got (for --resume) and the metrics. It is written to `<name>.part` and renamed, so a
-checkpoint on disk is always whole.
+input channels with their scalers, the latent feature filter, the fingerprints of the recordings it was
+trained on, how far training got (for --resume), the baselines and the metrics. It is written to
+`<name>.part` and renamed, so a checkpoint on disk is always whole. A checkpoint of the previous format
+(`softarm-checkpoint/1`: the stretch alone, an LSTM) is read as today's.
 """
 
 import pickle
@@ -18,7 +19,8 @@ from softarm.config.load import merge
 from softarm.errors import CheckpointError
 from softarm.files import atomic_path
 
-FORMAT = "softarm-checkpoint/1"
+FORMAT = "softarm-checkpoint/2"
+PREVIOUS = "softarm-checkpoint/1"
 
 
 def save_checkpoint(path: Union[str, Path], state: dict[str, Any]) -> Path:
@@ -38,8 +40,23 @@ def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:
     except (pickle.UnpicklingError, zipfile.BadZipFile, RuntimeError, EOFError, ValueError) as e:
         raise CheckpointError(f"{path} is not a softarm checkpoint ({type(e).__name__}: "
                               f"{str(e).splitlines()[0][:120] if str(e) else 'unreadable'})") from None
-    if not isinstance(state, dict) or state.get("format") != FORMAT:
+    if not isinstance(state, dict) or state.get("format") not in (FORMAT, PREVIOUS):
         raise CheckpointError(f"{path} is not a softarm checkpoint (expected format {FORMAT})")
+    return upgrade(state) if state["format"] == PREVIOUS else state
+
+
+def upgrade(old: dict[str, Any]) -> dict[str, Any]:
+    """A softarm-checkpoint/1 state as a /2 one: its LSTM is the latent model, its stretch the one input."""
+    state = {key: value for key, value in old.items() if key not in ("lstm", "sensor_count", "stretch_scaler")}
+    state["format"] = FORMAT
+    lstm = old.get("lstm")
+    state["latent_model"] = None if lstm is None else {key.replace("lstm.", "rnn.", 1): value
+                                                       for key, value in lstm.items()}
+    if "stretch_scaler" in old:
+        state["inputs"] = [{"name": "stretch", "features": old["sensor_count"], "scaler": old["stretch_scaler"]}]
+    phase = old["progress"]["phase"]
+    state["progress"] = {**old["progress"], "phase": "latent" if phase == "lstm" else phase}
+    state["losses"] = {key.replace("lstm_", "latent_"): value for key, value in old["losses"].items()}
     return state
 
 

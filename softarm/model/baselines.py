@@ -1,7 +1,7 @@
 """Trivial answers that every imagination is judged against: the mean frame and a ridge regression.
 
 A model is only worth its training if it beats predicting the average training frame, and a linear
-map from the same stretch window to the same latent code.
+map from the same input window to the same latent code.
 """
 
 from dataclasses import dataclass
@@ -18,7 +18,7 @@ class Baselines:
     """The trivial answers fitted on a training run, kept in its checkpoint so that any later
     evaluation (replay, the suite) scores them on the same frames as the model."""
     mean_frame: np.ndarray                 # (H, W) mean training frame, pixel probabilities
-    ridge: tuple[np.ndarray, np.ndarray]   # (weights, bias): normalised stretch window -> normalised latent
+    ridge: tuple[np.ndarray, np.ndarray]   # (weights, bias): normalised input window -> normalised latent
 
     def to_state(self) -> dict[str, torch.Tensor]:
         weights, bias = self.ridge

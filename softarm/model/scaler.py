@@ -1,8 +1,8 @@
 """Latent feature filter and normalisation, fitted on training data only, stored in the checkpoint.
 
 The paper drops latent features that do not change over the training frames (its "high pass
-filter"): they carry nothing the LSTM could predict. The kept features, and the stretch signals,
-are normalised to zero mean and unit variance with training statistics.
+filter"): they carry nothing a latent model could predict. The kept features, and every input
+channel's signals, are normalised to zero mean and unit variance with training statistics.
 """
 
 from dataclasses import dataclass
@@ -22,7 +22,7 @@ class Scaler:
     @classmethod
     def fit(cls, data: np.ndarray, min_relative_std: Optional[float] = None) -> "Scaler":
         """Statistics of data (M, F); features with std below min_relative_std x the largest std are
-        dropped (None keeps every feature, e.g. every stretch sensor the LSTM is built for)."""
+        dropped (None keeps every feature, e.g. every input a latent model is built for)."""
         data = data.astype(np.float64)
         mean, std = data.mean(axis=0), data.std(axis=0)
         if min_relative_std is None:

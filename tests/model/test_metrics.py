@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from softarm.learn.baselines import ridge_fit, ridge_predict
-from softarm.learn.metrics import frame_scores, image_scores, summarise, tip_pixels
+from softarm.model.baselines import ridge_fit, ridge_predict
+from softarm.model.metrics import frame_scores, image_scores, summarise, tip_pixels
 
 
 def test_scores_of_a_hand_made_pair():
@@ -51,7 +51,7 @@ def test_ridge_recovers_a_linear_map():
 
 
 def test_spearman_matches_the_pearson_correlation_of_ranks_and_shares_tied_ranks():
-    from softarm.learn.metrics import average_ranks, spearman
+    from softarm.model.metrics import average_ranks, spearman
 
     rng = np.random.default_rng(3)
     a, b = rng.normal(size=200), rng.normal(size=200)

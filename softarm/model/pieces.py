@@ -1,4 +1,4 @@
-"""Training data of the stream model: stretches of recording read side by side, in chunks.
+"""Training data of a stream model: stretches of recording read side by side, in chunks.
 
 Truncated back-propagation through time: each stretch is read from its first sample in chunks of
 `sequence` samples; the state carries from chunk to chunk (so the model learns to use what it
@@ -11,14 +11,12 @@ before its answers count.
 
 import math
 from dataclasses import dataclass
-from typing import Iterator
+from typing import Iterator, Sequence
 
 import numpy as np
 import torch
 
-from softarm.learn.codes import LatentCodes
-from softarm.learn.dataset import Dataset
-from softarm.learn.scaler import Scaler
+from softarm.model.latent import TrainingSeries
 
 
 @dataclass(frozen=True)
@@ -42,11 +40,10 @@ class Group:
             yield self.samples[:, part], self.targets[:, part], self.scored[:, part]
 
 
-def pieces(data: Dataset, streams: int, warmup: int, lead: int) -> list[Piece]:
+def pieces(train_ends: Sequence[int], streams: int, warmup: int, lead: int) -> list[Piece]:
     """Every recording's training segment, cut into equal pieces so that at least `streams` are read, none
     shorter than its warm-up (a short recording gives fewer)."""
-    segments = [(n, seq.segment("train")[1] - lead) for n, seq in enumerate(data.sequences)]
-    segments = [(n, end) for n, end in segments if end > 0]
+    segments = [(n, end - lead) for n, end in enumerate(train_ends) if end - lead > 0]
     cuts = math.ceil(streams / max(1, len(segments)))
     out = []
     for n, end in segments:
@@ -55,9 +52,9 @@ def pieces(data: Dataset, streams: int, warmup: int, lead: int) -> list[Piece]:
     return out
 
 
-def partition(data: Dataset, streams: int, warmup: int, lead: int) -> list[list[Piece]]:
+def partition(train_ends: Sequence[int], streams: int, warmup: int, lead: int) -> list[list[Piece]]:
     """The pieces in groups of about `streams` (as even as they go)."""
-    every = pieces(data, streams, warmup, lead)
+    every = pieces(train_ends, streams, warmup, lead)
     return [[every[i] for i in part] for part in np.array_split(np.arange(len(every)), math.ceil(len(every) / streams))]
 
 
@@ -69,25 +66,25 @@ def scored_chunks(part: list[Piece], sequence: int) -> int:
                for first in range(0, length, sequence))
 
 
-def steps_per_epoch(data: Dataset, streams: int, sequence: int, warmup: int, lead: int) -> int:
-    return sum(scored_chunks(part, sequence) for part in partition(data, streams, warmup, lead))
+def steps_per_epoch(train_ends: Sequence[int], streams: int, sequence: int, warmup: int, lead: int) -> int:
+    return sum(scored_chunks(part, sequence) for part in partition(train_ends, streams, warmup, lead))
 
 
-def groups(data: Dataset, codes: LatentCodes, latent: Scaler, stretch: Scaler, streams: int, warmup: int,
-           lead: int) -> list[Group]:
+def groups(series: Sequence[TrainingSeries], streams: int, warmup: int, lead: int) -> list[Group]:
     """Every group, padded to its longest piece."""
-    return [_group(data, codes, latent, stretch, part, lead) for part in partition(data, streams, warmup, lead)]
+    ends = [s.train_end for s in series]
+    return [_group(series, part, lead) for part in partition(ends, streams, warmup, lead)]
 
 
-def _group(data: Dataset, codes: LatentCodes, latent: Scaler, stretch: Scaler, part: list[Piece], lead: int) -> Group:
+def _group(series: Sequence[TrainingSeries], part: list[Piece], lead: int) -> Group:
     length = max(p.end - p.start for p in part)
-    samples = np.zeros((len(part), length, data.sensor_count), np.float32)
-    targets = np.zeros((len(part), length, latent.kept), np.float32)
+    first = series[part[0].recording]
+    samples = np.zeros((len(part), length, first.inputs.shape[1]), np.float32)
+    targets = np.zeros((len(part), length, first.latents.shape[1]), np.float32)
     scored = np.zeros((len(part), length), bool)
     for g, p in enumerate(part):
-        n, size = p.recording, p.end - p.start
-        samples[g, :size] = stretch.forward(data.sequences[n].stretch[p.start:p.end])
-        frames = np.arange(p.start, p.end) + lead
-        targets[g, :size] = latent.forward(codes.of(np.stack([np.full(size, n), frames], axis=1)))
+        s, size = series[p.recording], p.end - p.start
+        samples[g, :size] = s.inputs[p.start:p.end]
+        targets[g, :size] = s.latents[p.start + lead:p.end + lead]
         scored[g, p.scored - p.start:size] = True
     return Group(torch.from_numpy(samples), torch.from_numpy(targets), torch.from_numpy(scored))

@@ -1,0 +1,44 @@
+"""Where the command line speaks: `out` (results, and progress lines when it is a log) and `err` (errors,
+warnings, progress bars), and the one rule that turns a user's mistake into one line and exit code 1."""
+
+import warnings
+from typing import Callable, TypeVar
+
+import typer
+from rich.console import Console
+
+from softarm.errors import SoftarmError
+
+err = Console(stderr=True, highlight=False, soft_wrap=True)
+out = Console(highlight=False, soft_wrap=True)
+T = TypeVar("T")
+
+
+def one_line_warning(message: Warning | str, category: type[Warning], *_: object, **__: object) -> None:
+    """Warnings (a truncated recording, an unreachable viewer) as one 'warning:' line, no source echo."""
+    err.print(f"warning: {message}", markup=False)
+
+
+warnings.showwarning = one_line_warning
+
+
+def run_or_exit(action: Callable[[], T]) -> T:
+    """Run a library call; a user-caused error becomes one line on stderr and exit code 1."""
+    try:
+        return action()
+    except SoftarmError as e:
+        err.print(f"error: {e}", markup=False)
+        raise typer.Exit(1) from None
+    except OSError as e:
+        err.print(f"error: {e.strerror or e}" + (f": {e.filename}" if e.filename else ""), markup=False)
+        raise typer.Exit(1) from None
+
+
+def say(text: str) -> None:
+    """A plain line of results on stdout."""
+    out.print(text, markup=False)
+
+
+def complain(text: str) -> None:
+    """A plain line on stderr (an interruption, a failed trial)."""
+    err.print(text, markup=False)

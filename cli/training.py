@@ -1,0 +1,56 @@
+"""`softarm train`: learn the autoencoder and the latent model from recordings, print the held-out metrics."""
+
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+from softarm_cli.console import complain, err, out, run_or_exit, say
+from softarm_cli.options import ConfigFile, D, Force, Quiet
+from softarm_cli.progress import LazyProgress, training_progress
+from softarm_cli.tables import metrics_table
+
+from softarm.config import load_config
+from softarm.model.registry import LATENT_MODELS
+
+
+def train(
+    recordings: Annotated[list[Path], typer.Argument(metavar="RECORDING...", help="Recordings (.mcap) to learn from, or folders of them (a corpus); each is split by time.")],
+    out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="Checkpoint file [default: recordings/<first recording>.pt]; metrics go beside it as .metrics.json.")] = None,
+    config: ConfigFile = None,
+    epochs_ae: Annotated[Optional[int], typer.Option(help=f"Autoencoder epochs [default: {D.train.epochs_ae}].")] = None,
+    epochs_lstm: Annotated[Optional[int], typer.Option(help=f"Latent model epochs [default: {D.train.epochs_lstm}].")] = None,
+    model: Annotated[Optional[str], typer.Option(help=f"Latent model: {' | '.join(LATENT_MODELS)} (window: the paper's LSTM over the last --history samples; stream: an LSTM that carries its state through the whole stream; gru: the same with a GRU) [default: {D.train.model}].")] = None,
+    history: Annotated[Optional[int], typer.Option(help=f"Input samples the window model sees, and the first frame any model imagines [default: {D.train.history}].")] = None,
+    include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].", show_default=False)] = None,
+    latent: Annotated[Optional[int], typer.Option(help=f"Latent features of the autoencoder [default: {D.train.latent}].")] = None,
+    seed: Annotated[Optional[int], typer.Option(help=f"Seed of initialisation and shuffling [default: {D.train.seed}].")] = None,
+    minutes: Annotated[Optional[float], typer.Option(help="Fit the schedules into this many minutes of training, measured on this machine (sets train.max_steps_*; not reproducible elsewhere).")] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Continue the interrupted run saved in --out.")] = False,
+    spawn: Annotated[bool, typer.Option("--spawn", help="Open a Rerun viewer with live losses and a held-out clip.")] = False,
+    rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Save the live view to this .rrd file.")] = None,
+    force: Force = False,
+    quiet: Quiet = False,
+) -> None:
+    """Train the autoencoder and the latent model on recordings; print held-out metrics beside baselines.
+
+    \b
+    Example: softarm train recordings/seed0.mcap --rrd recordings/train.rrd
+    """
+    from softarm.learn.run import train as run_training
+
+    overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.model": model, "train.history": history,
+                 "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
+    cfg = run_or_exit(lambda: load_config(config, overrides))
+    with LazyProgress(err, "training", 1, "steps", quiet=quiet, log=out) as bar:
+        result = run_or_exit(lambda: run_training(recordings, cfg, out_path, resume=resume, force=force, spawn=spawn,
+                                                  rrd=rrd, minutes=minutes, progress=training_progress(bar)))
+    if not result.complete:
+        if result.checkpoint.exists():
+            complain(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "
+                     f"{' '.join(map(str, recordings))} --out {result.checkpoint} --resume")
+        else:
+            complain("interrupted before the first epoch finished: no checkpoint was written")
+        raise typer.Exit(130)
+    if not quiet:
+        out.print(metrics_table(result.metrics))
+        say(f"checkpoint {result.checkpoint}, metrics {result.metrics_path}, {result.wall_seconds:.0f} s")

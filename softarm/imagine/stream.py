@@ -1,0 +1,57 @@
+"""Imagination online: one input sample in, one imagined frame out, at a robot's control rate.
+
+A robot's loop calls `step(sample)` once per reading (every 10 ms at the default frame rate). The latent
+model's online reader keeps what it needs (the window model its last `history` samples, a stream model
+only its recurrent state) and answers; the decoder then draws one latent code: the same computation as a
+batch replay, frame for frame. With the paper's set-up (`include_current` false) the samples up to k
+imagine frame k+1, what the body will look like at the next sample; with `include_current` frame k.
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Optional, Union
+
+import numpy as np
+
+from softarm.model.prediction import Prediction
+
+if TYPE_CHECKING:
+    from softarm.model.imaginer import Imaginer
+
+
+@dataclass(frozen=True)
+class ImaginedFrame:
+    frame: int                  # the frame index imagined
+    probabilities: np.ndarray   # (H, W) pixel probabilities
+    confidence: float           # in (0, 1]: how far to trust it (`softarm.model.latent.Prediction.confidence`)
+
+
+class StreamingImaginer:
+    @classmethod
+    def from_checkpoint(cls, path: Union[str, Path]) -> "StreamingImaginer":
+        """The streamer of a checkpoint written by `softarm train`."""
+        from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
+
+        return cls(TrainedModel(path).imaginer)
+
+    def __init__(self, imaginer: "Imaginer"):
+        self.imaginer = imaginer
+        self.reset()
+
+    def step(self, sample: np.ndarray) -> Optional[ImaginedFrame]:
+        """Take the next sample (F raw readings of the model's input channels, e.g. the stretch in m); return
+        the frame it lets the model imagine, or None until `history` samples have been seen (the first frame a
+        batch replay imagines)."""
+        imaginer = self.imaginer
+        self.samples += 1
+        answer = self._reader.step(imaginer.normalised(np.asarray(sample, np.float64)))
+        if answer is None:
+            return None
+        prediction = Prediction(np.array([self.samples - 1 + imaginer.latent.lead]), answer[0][None], answer[1][None])
+        return ImaginedFrame(int(prediction.targets[0]), imaginer.decode(prediction.latents)[0],
+                             float(prediction.confidence[0]))
+
+    def reset(self) -> None:
+        """Forget what was read (a new run or a gap in the readings)."""
+        self._reader = self.imaginer.latent.online()
+        self.samples = 0  # samples seen so far; the latest one is sample samples - 1

@@ -1,0 +1,86 @@
+"""Imagination: inputs -> latent model -> normalised latent -> decoder -> frame probabilities.
+
+An `Imaginer` holds the trained networks, the input channels with their scalers and the latent scaler;
+training uses it for its metrics, replay and evaluation for whole recordings and the streamer for one
+sample at a time, so all of them compute imagination the same way. Raw inputs are normalised once, as
+float64, and the latent model reads them as float32.
+"""
+
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+import torch
+
+from softarm.errors import CheckpointError, RecordingError
+from softarm.model.autoencoder import Autoencoder, decode_codes
+from softarm.model.checkpoint import checkpoint_config
+from softarm.model.inputs import Inputs
+from softarm.model.latent import LatentModel
+from softarm.model.prediction import Prediction
+from softarm.model.registry import latent_model_class
+from softarm.model.scaler import Scaler
+from softarm.model.windows import input_windows
+
+
+@dataclass
+class Imaginer:
+    autoencoder: Autoencoder
+    latent: LatentModel
+    latent_scaler: Scaler
+    inputs: Inputs
+
+    @classmethod
+    def from_checkpoint(cls, state: dict[str, Any]) -> "Imaginer":
+        """Rebuild the networks from a checkpoint's state; refuse one whose weights do not fit them."""
+        if state.get("latent_model") is None:
+            raise CheckpointError("the checkpoint's training stopped before the latent model: finish it with --resume")
+        t = checkpoint_config(state).train
+        latent_scaler = Scaler.from_state(state["latent_scaler"])
+        inputs = Inputs.from_state(state["inputs"])
+        autoencoder = Autoencoder(*state["image_shape"], t.latent)
+        latent = latent_model_class(t.model)(inputs.features, latent_scaler.kept, t)
+        try:
+            autoencoder.load_state_dict(state["autoencoder"])
+            latent.load_state_dict(state["latent_model"])
+        except (RuntimeError, KeyError) as e:
+            raise CheckpointError(f"the checkpoint's weights do not fit this softarm's networks: "
+                                  f"{str(e).splitlines()[0][:160]}") from None
+        autoencoder.eval()
+        latent.eval()
+        autoencoder.to(memory_format=torch.channels_last)  # faster convolutions when decoding on the CPU
+        return cls(autoencoder, latent, latent_scaler, inputs)
+
+    def normalised(self, raw: np.ndarray) -> np.ndarray:
+        """Raw inputs (..., F) as the latent model reads them: normalised, float32."""
+        return self.inputs.normalise(raw).astype(np.float32)
+
+    def windows(self, raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Every normalised (float64) window of a raw input series (T, F) and the frame each imagines: the
+        frames any model imagines, and what the ridge baseline reads."""
+        windows, targets = input_windows(self.inputs.normalise(raw), self.latent.history, self.latent.lead)
+        return windows, targets
+
+    def predict(self, raw: np.ndarray) -> Prediction:
+        """The latent answer for every frame of a raw input series (T, F) that the model imagines."""
+        return self.predict_many([raw])[0]
+
+    def predict_many(self, series: Sequence[np.ndarray]) -> list[Prediction]:
+        """`predict` for several series at once (a stream model reads equal-length ones side by side)."""
+        for raw in series:
+            if len(raw) <= self.latent.first_frame:
+                raise RecordingError(f"{len(raw)} input samples are too few for a history of {self.latent.history}")
+        return self.latent.answer([self.normalised(raw) for raw in series])
+
+    def predict_segments(self, series: Sequence[np.ndarray], bounds: Sequence[tuple[int, int]]) -> Prediction:
+        """The answers for one segment [start, end) of each series (targets: (series, frame) pairs)."""
+        return self.latent.answer_segments([self.normalised(raw) for raw in series], bounds)
+
+    def decode(self, normalised: np.ndarray) -> np.ndarray:
+        """Pixel probabilities (M, H, W) of normalised kept latents (M, K)."""
+        return decode_codes(self.autoencoder, self.latent_scaler.inverse(normalised))
+
+    def imagine(self, raw: np.ndarray) -> tuple[Prediction, np.ndarray]:
+        """The prediction and the imagined pixel probabilities (M, H, W) of a whole raw input series (T, F)."""
+        prediction = self.predict(raw)
+        return prediction, self.decode(prediction.latents)

@@ -1,0 +1,110 @@
+"""What a latent model reads: a declared list of input channels, each read from a recording and normalised by
+its own scaler, fitted on the training data and kept in the checkpoint.
+
+A channel is one class here and one line of `registry.INPUT_CHANNELS`; every reader (training, replay,
+evaluation, the streamer) reads through `Inputs`, so a new channel is not an edit of each of them.
+"""
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar, Sequence
+
+import numpy as np
+
+from softarm.config import Config
+from softarm.model.registry import input_channel_class
+from softarm.model.scaler import Scaler
+from softarm.sense.reading import needs_nodes, sensed_stretch, sensor_count
+
+if TYPE_CHECKING:
+    from softarm.record.reader import Recording
+
+DEFAULT_CHANNELS = ("stretch",)  # what every model reads today
+
+
+class InputChannel:
+    """One signal a latent model reads: how many features a recording gives and how they are read."""
+    name: ClassVar[str]
+    what: ClassVar[str]  # its features, as an error message names them
+
+    def features(self, model: dict[str, Any], config: Config) -> int:
+        """How many features a recording with this model document gives (read before its frames)."""
+        raise NotImplementedError
+
+    def read(self, recording: "Recording", config: Config) -> np.ndarray:
+        """(T, F) float64: the channel's signal at every frame."""
+        raise NotImplementedError
+
+    def needs_nodes(self, config: Config) -> bool:
+        """Whether reading it needs the recording's node positions."""
+        return False
+
+
+class Stretch(InputChannel):
+    """The stretch sensors, as the [sensing] section reads them (pairs, imperfections)."""
+    name = "stretch"
+    what = "stretch sensors"
+
+    def features(self, model: dict[str, Any], config: Config) -> int:
+        return sensor_count(model, config.sensing)
+
+    def read(self, recording: "Recording", config: Config) -> np.ndarray:
+        return sensed_stretch(recording, config.sensing)
+
+    def needs_nodes(self, config: Config) -> bool:
+        return needs_nodes(config.sensing)
+
+
+def channels(names: Sequence[str] = DEFAULT_CHANNELS) -> tuple[InputChannel, ...]:
+    return tuple(input_channel_class(name)() for name in names)
+
+
+def read_channels(chosen: Sequence[InputChannel], recording: "Recording", config: Config) -> np.ndarray:
+    """(T, F) float64: every channel's features side by side, in the declared order."""
+    return np.concatenate([c.read(recording, config) for c in chosen], axis=1)
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """The channels a trained model reads, in order, each with the scaler fitted on its training data."""
+    channels: tuple[InputChannel, ...]
+    scalers: tuple[Scaler, ...]
+
+    @property
+    def widths(self) -> list[int]:
+        """Features of each channel."""
+        return [len(s.mean) for s in self.scalers]
+
+    @property
+    def features(self) -> int:
+        return sum(self.widths)
+
+    @classmethod
+    def fit(cls, chosen: Sequence[InputChannel], widths: Sequence[int], training: np.ndarray) -> "Inputs":
+        """Each channel's scaler from its columns of the training samples (M, F)."""
+        return cls(tuple(chosen), tuple(Scaler.fit(part) for part in _columns(training, widths)))
+
+    def normalise(self, raw: np.ndarray) -> np.ndarray:
+        """(..., F) raw samples -> (..., F) float64, each channel by its own scaler."""
+        parts = [scaler.forward(part) for scaler, part in zip(self.scalers, _columns(raw, self.widths))]
+        return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
+
+    def read(self, recording: "Recording", config: Config) -> np.ndarray:
+        return read_channels(self.channels, recording, config)
+
+    def needs_nodes(self, config: Config) -> bool:
+        return any(c.needs_nodes(config) for c in self.channels)
+
+    def to_state(self) -> list[dict[str, Any]]:
+        """What the checkpoint keeps: each channel's name, width and scaler."""
+        return [{"name": c.name, "features": len(s.mean), "scaler": s.to_state()}
+                for c, s in zip(self.channels, self.scalers)]
+
+    @classmethod
+    def from_state(cls, state: Sequence[dict[str, Any]]) -> "Inputs":
+        return cls(channels([entry["name"] for entry in state]), tuple(Scaler.from_state(e["scaler"]) for e in state))
+
+
+def _columns(data: np.ndarray, widths: Sequence[int]) -> list[np.ndarray]:
+    """The last axis of `data` cut into consecutive parts of `widths` features."""
+    edges = np.cumsum([0, *widths])
+    return [data[..., a:b] for a, b in zip(edges[:-1], edges[1:])]

@@ -1,0 +1,125 @@
+"""What every latent model is: a recurrent network from normalised input samples to the normalised latent
+code of a frame, with an error head that predicts its own squared error; and the contract that training,
+replay, evaluation and the streamer use it by.
+
+A model is one subclass (`window.WindowLSTM`, `stream.StreamLSTM`, `stream.StreamGRU`) named in
+`registry.LATENT_MODELS`. Whatever the model, frame k is imagined from the samples up to k - lead
+(`TrainConfig.lead`), and the first frame imagined is the first a `history`-sample window reaches: every
+model answers for the same frames, beside the same baselines.
+"""
+
+from dataclasses import dataclass
+from typing import Any, Callable, ClassVar, Iterator, Optional, Sequence
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from torch import nn
+
+from softarm.config import TrainConfig
+from softarm.model.prediction import Prediction
+
+StepLoss = tuple[torch.Tensor, float, int]   # (loss to minimise, loss to report, items it covers)
+Step = Callable[[], StepLoss]                 # one optimisation step's forward pass
+Order = Callable[[int, int], torch.Tensor]    # (items, epoch) -> that epoch's shuffle of the items
+
+
+@dataclass(frozen=True)
+class TrainingSeries:
+    """One recording as a latent model trains on it: every frame's normalised inputs and target latent."""
+    inputs: np.ndarray   # (T, P) float32
+    latents: np.ndarray  # (T, K) float32
+    train_end: int       # the training segment is frames [0, train_end)
+
+
+class OnlineReader:
+    """One stream read sample by sample: `step` takes a normalised sample (P,) and returns the latent answer
+    (K,) and its log squared errors (K,) for the frame it lets the model imagine, or None before the first."""
+
+    def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
+        raise NotImplementedError
+
+
+class ErrorHead(nn.Module):
+    """Predicts the log of each latent feature's squared error from the recurrent state it reads, detached:
+    learning to say how wrong it is never changes what the model predicts. Its prediction is the
+    imagined frame's confidence (`Prediction.confidence`)."""
+
+    def __init__(self, hidden: int, outputs: int):
+        super().__init__()
+        self.net = nn.Sequential(nn.Linear(hidden, 64), nn.ReLU(), nn.Linear(64, outputs))
+
+    def forward(self, states: torch.Tensor) -> torch.Tensor:
+        return self.net(states.detach())
+
+
+class LatentModel(nn.Module):
+    """A recurrent layer (`core`), a linear head to the latent and an error head; its subclass says how it
+    reads a series, how it steps online and how an epoch of its training is cut."""
+
+    core: ClassVar[type[nn.RNNBase]] = nn.LSTM
+    clip_norm: ClassVar[Optional[float]] = None  # gradient norm at most while training (None: unclipped)
+
+    def __init__(self, inputs: int, outputs: int, train: TrainConfig):
+        super().__init__()
+        self.rnn = self.core(inputs, train.lstm_hidden, num_layers=1, batch_first=True)
+        self.head = nn.Linear(train.lstm_hidden, outputs)
+        self.error = ErrorHead(train.lstm_hidden, outputs)
+        self.settings = train
+
+    @property
+    def history(self) -> int:
+        return self.settings.history
+
+    @property
+    def lead(self) -> int:
+        return self.settings.lead
+
+    @property
+    def first_frame(self) -> int:
+        """The first frame any model imagines: the first a `history`-sample window reaches."""
+        return self.history - 1 + self.lead
+
+    def answer(self, series: Sequence[np.ndarray]) -> list[Prediction]:
+        """The answer for every frame each normalised input series (T, P) lets the model imagine."""
+        raise NotImplementedError
+
+    def answer_segments(self, series: Sequence[np.ndarray], bounds: Sequence[tuple[int, int]]) -> Prediction:
+        """The answers for the frames of one segment [start, end) of each series that a window inside the
+        segment reaches; targets are (series, frame) pairs. A model with memory reads each series from its
+        first sample, as it would online."""
+        parts = []
+        for n, (prediction, (start, end)) in enumerate(zip(self.answer(series), bounds)):
+            p = prediction.take((prediction.targets >= start + self.first_frame) & (prediction.targets < end))
+            parts.append(Prediction(np.stack([np.full(len(p.targets), n), p.targets], axis=1), p.latents, p.log_error))
+        return Prediction.join(parts)
+
+    def online(self) -> OnlineReader:
+        raise NotImplementedError
+
+    @classmethod
+    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig) -> int:
+        """Optimisation steps of one epoch over recordings whose training segments end at `train_ends`."""
+        raise NotImplementedError
+
+    def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:
+        """The steps of each epoch (by number) over the training segments of `series`."""
+        raise NotImplementedError
+
+    @classmethod
+    def dummy_batch(cls, train: TrainConfig, inputs: int) -> torch.Tensor:
+        """A batch of the real training shape, for timing a step (`softarm.learn.budget`)."""
+        raise NotImplementedError
+
+
+def latent_loss(mean: torch.Tensor, log_error: torch.Tensor, target: torch.Tensor) -> StepLoss:
+    """Mean squared error of the latent, plus the Gaussian negative log-likelihood that teaches the error head
+    its own squared error (it reads detached states, so this term leaves the prediction alone)."""
+    mse = F.mse_loss(mean, target)
+    error = (mean.detach() - target).square()
+    return mse + (log_error + error * torch.exp(-log_error)).mean(), mse.item(), len(target)
+
+
+def detached(state: Any) -> Any:
+    """A recurrent state cut from its graph: (h, c) for an LSTM, h for a GRU."""
+    return tuple(h.detach() for h in state) if isinstance(state, tuple) else state.detach()

@@ -1,0 +1,45 @@
+"""Every latent model and input channel by the name the config gives it, one line each.
+
+Classes are imported only when used (`latent_model_class`), so the command line and the config name them
+without loading torch. A new model is one class and one line here.
+"""
+
+import importlib
+from typing import Any
+
+from softarm.errors import ConfigError
+
+LATENT_MODELS = {
+    "window": "softarm.model.window:WindowLSTM",    # the paper's LSTM over the last `history` samples
+    "stream": "softarm.model.stream:StreamLSTM",    # an LSTM that carries its state through the whole stream
+    "gru": "softarm.model.stream:StreamGRU",        # the same with a GRU layer
+}
+INPUT_CHANNELS = {
+    "stretch": "softarm.model.inputs:Stretch",      # the stretch sensors, read as [sensing] says
+}
+
+
+def check_latent_model(name: str) -> None:
+    """Refuse a `train.model` no class answers to, without importing any."""
+    _check(LATENT_MODELS, name, "config key 'train.model'")
+
+
+def latent_model_class(name: str) -> Any:
+    """The class `train.model` names."""
+    return _load(LATENT_MODELS, name, "config key 'train.model'")
+
+
+def input_channel_class(name: str) -> Any:
+    """The class of an input channel of a checkpoint (or of the config)."""
+    return _load(INPUT_CHANNELS, name, "input channel")
+
+
+def _check(registry: dict[str, str], name: str, what: str) -> None:
+    if name not in registry:
+        raise ConfigError(f"{what} = {name!r} is out of range: must be one of {list(registry)}")
+
+
+def _load(registry: dict[str, str], name: str, what: str) -> Any:
+    _check(registry, name, what)
+    module, _, cls = registry[name].partition(":")
+    return getattr(importlib.import_module(module), cls)

@@ -1,0 +1,111 @@
+"""Latent models with memory: a recurrent layer reads the stream sample by sample and carries its state from
+the first sample on, so a motion felt seconds ago still shapes today's answer. Every sample's state
+predicts a latent. Trained by truncated back-propagation through time (`pieces`), gradients clipped.
+
+`StreamLSTM` is the default model; `StreamGRU` is the same with a GRU layer (fewer weights, no cell state).
+"""
+
+from functools import partial
+from typing import Any, Callable, Iterator, Optional, Sequence
+
+import numpy as np
+import torch
+from torch import nn
+
+from softarm.config import TrainConfig
+from softarm.model import pieces
+from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries, detached, latent_loss
+from softarm.model.prediction import Prediction
+
+STREAMS = 64  # series read side by side when answering
+
+
+class StreamModel(LatentModel):
+    clip_norm = 1.0
+
+    def forward(self, samples: torch.Tensor, state: Any = None) -> tuple[torch.Tensor, torch.Tensor, Any]:
+        """(B, T, P) samples, from `state` (None: the stream's start) -> latents (B, T, K), their log squared
+        errors (B, T, K) and the state after the last sample."""
+        states, state = self.rnn(samples, state)
+        return self.head(states), self.error(states), state
+
+    @torch.inference_mode()
+    def answer(self, series: Sequence[np.ndarray]) -> list[Prediction]:
+        """Series of equal length are read side by side, STREAMS at a time."""
+        out: list[Optional[Prediction]] = [None] * len(series)
+        for length in sorted({len(s) for s in series}):
+            same = [i for i, s in enumerate(series) if len(s) == length]
+            for first in range(0, len(same), STREAMS):
+                group = same[first:first + STREAMS]
+                for i, prediction in zip(group, self._answer_side_by_side(np.stack([series[i] for i in group]))):
+                    out[i] = prediction
+        return out
+
+    def _answer_side_by_side(self, series: np.ndarray) -> list[Prediction]:
+        """(S, T, P) series of one length, each read from its first sample."""
+        targets = np.arange(self.first_frame, series.shape[1])
+        latents, log_error, _ = self(torch.from_numpy(series))
+        samples = targets - self.lead
+        return [Prediction(targets, latents[s, samples].numpy(), log_error[s, samples].numpy())
+                for s in range(len(series))]
+
+    def online(self) -> OnlineReader:
+        return StreamReader(self)
+
+    @classmethod
+    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig) -> int:
+        return pieces.steps_per_epoch(train_ends, train.streams, train.sequence, train.sequence, train.lead)
+
+    def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:
+        """Every group of pieces in a shuffled order, each read chunk by chunk from a fresh state that carries
+        over (detached) from chunk to chunk."""
+        t = self.settings
+        every = pieces.groups(series, t.streams, t.sequence, self.lead)
+
+        def epoch(number: int) -> Iterator[Step]:
+            for g in order(len(every), number).tolist():
+                carried: list[Any] = [None]
+                for samples, targets, scored in every[g].chunks(t.sequence):
+                    if not scored.any():
+                        with torch.no_grad():
+                            carried[0] = self(samples, carried[0])[2]
+                        continue
+                    yield partial(self._chunk_step, carried, samples, targets, scored)
+
+        return epoch
+
+    def _chunk_step(self, carried: list[Any], samples: torch.Tensor, targets: torch.Tensor,
+                    scored: torch.Tensor) -> StepLoss:
+        """One chunk from the carried state, which it then replaces (detached: gradients stop here)."""
+        mean, log_error, state = self(samples, carried[0])
+        carried[0] = detached(state)
+        return latent_loss(mean[scored], log_error[scored], targets[scored])
+
+    @classmethod
+    def dummy_batch(cls, train: TrainConfig, inputs: int) -> torch.Tensor:
+        return torch.zeros(train.streams, train.sequence, inputs)
+
+
+class StreamLSTM(StreamModel):
+    core = nn.LSTM
+
+
+class StreamGRU(StreamModel):
+    core = nn.GRU
+
+
+class StreamReader(OnlineReader):
+    """The recurrent state alone, advanced by one sample per step."""
+
+    def __init__(self, model: StreamModel):
+        self.model = model
+        self.state: Any = None
+        self.samples = 0
+
+    @torch.inference_mode()
+    def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
+        latent, log_error, self.state = self.model(torch.from_numpy(sample[None, None]), self.state)
+        self.samples += 1  # the state advances with every sample, answered or not
+        if self.samples < self.model.history:
+            return None
+        return latent[0, 0].numpy(), log_error[0, 0].numpy()

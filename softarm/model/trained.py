@@ -1,0 +1,53 @@
+"""A checkpoint ready to answer: its imaginer, its baselines, and its way of reading a recording.
+
+Replay, the suite's evaluation and the streamer open a checkpoint here. A recording is read as the model
+was trained to read it (every input channel, the sensors with their imperfections, unless a caller
+replaces those), after a check that its camera and inputs fit the checkpoint, made before its frames are
+read.
+"""
+
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import Any, Optional, Union
+
+import numpy as np
+
+from softarm.config import Config, override
+from softarm.model.baselines import Baselines
+from softarm.model.checkpoint import checkpoint_config, load_checkpoint
+from softarm.model.fits import check_fits, recording_shape
+from softarm.model.imaginer import Imaginer
+from softarm.record.reader import Recording, read_model, read_recording
+
+
+@dataclass(frozen=True)
+class Reading:
+    """A recording and what the model reads from it."""
+    recording: Recording
+    inputs: np.ndarray     # (T, F) raw, every channel side by side
+    config: Config         # the config it was read with (the checkpoint's, with any replaced imperfections)
+
+
+class TrainedModel:
+    def __init__(self, path: Union[str, Path]):
+        self.path = Path(path)
+        self.state = load_checkpoint(self.path)
+        self.config = checkpoint_config(self.state)
+        self.imaginer = Imaginer.from_checkpoint(self.state)
+
+    @cached_property
+    def baselines(self) -> Baselines:
+        return Baselines.from_checkpoint(self.state)
+
+    def read(self, recording: Union[str, Path], sensor_noise: Optional[dict[str, Any]] = None,
+             nodes: bool = False) -> Reading:
+        """`recording` as the checkpoint reads it, with `sensor_noise` (keys of [sensing] but pairs) replacing
+        its imperfections; `nodes` reads the node positions even where no input needs them."""
+        config = override(self.config, {f"sensing.{k}": v for k, v in (sensor_noise or {}).items()})
+        inputs = self.imaginer.inputs
+        expected = (self.state["image_shape"], inputs.widths)
+        check_fits(str(recording), recording_shape(read_model(recording), inputs.channels, config), expected,
+                   inputs.channels, str(self.path), trained=True)
+        rec = read_recording(recording, nodes=nodes or inputs.needs_nodes(config))
+        return Reading(rec, inputs.read(rec, config), config)

@@ -1,0 +1,81 @@
+"""The paper's latent model: an LSTM over the last `history` input samples, started afresh for every
+window; its last state predicts the latent. It knows what the last 60 ms felt like, nothing older."""
+
+import math
+from collections import deque
+from functools import partial
+from typing import Callable, Iterator, Optional, Sequence
+
+import numpy as np
+import torch
+
+from softarm.config import TrainConfig
+from softarm.model.autoencoder import in_batches
+from softarm.model.latent import LatentModel, OnlineReader, Order, Step, TrainingSeries, latent_loss
+from softarm.model.prediction import Prediction
+from softarm.model.windows import input_windows, window_count
+
+
+class WindowLSTM(LatentModel):
+    def forward(self, windows: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """(B, history, P) -> predicted latents (B, K) and their log squared errors (B, K)."""
+        states, _ = self.rnn(windows)
+        last = states[:, -1]
+        return self.head(last), self.error(last)
+
+    def answer(self, series: Sequence[np.ndarray]) -> list[Prediction]:
+        return [self.answer_windows(*input_windows(s, self.history, self.lead)) for s in series]
+
+    def answer_segments(self, series: Sequence[np.ndarray], bounds: Sequence[tuple[int, int]]) -> Prediction:
+        """Only the segments' own windows are read: this model remembers nothing older."""
+        windows, targets = [], []
+        for n, (s, (start, end)) in enumerate(zip(series, bounds)):
+            w, k = input_windows(s, self.history, self.lead, start, end)
+            windows.append(w)
+            targets.append(np.stack([np.full(len(k), n), k], axis=1))
+        return self.answer_windows(np.concatenate(windows), np.concatenate(targets))
+
+    @torch.inference_mode()
+    def answer_windows(self, windows: np.ndarray, targets: np.ndarray) -> Prediction:
+        """The answers for normalised windows (M, history, P) and the frames they imagine."""
+        latents, log_error = in_batches(self, torch.from_numpy(windows))
+        return Prediction(targets, latents.numpy(), log_error.numpy())
+
+    def online(self) -> OnlineReader:
+        return WindowReader(self)
+
+    @classmethod
+    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig) -> int:
+        pairs = sum(window_count(end, train.history, train.lead) for end in train_ends)
+        return math.ceil(pairs / train.batch_lstm)
+
+    def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:
+        """Shuffled batches of (window, latent of the frame it imagines) pairs of every training segment."""
+        pairs = [input_windows(s.inputs, self.history, self.lead, 0, s.train_end) for s in series]
+        x = torch.from_numpy(np.concatenate([w for w, _ in pairs]))
+        y = torch.from_numpy(np.concatenate([s.latents[k] for s, (_, k) in zip(series, pairs)]))
+
+        def step(index: torch.Tensor) -> tuple[torch.Tensor, float, int]:
+            mean, log_error = self(x[index])
+            return latent_loss(mean, log_error, y[index])
+
+        return lambda number: (partial(step, i) for i in torch.split(order(len(x), number), self.settings.batch_lstm))
+
+    @classmethod
+    def dummy_batch(cls, train: TrainConfig, inputs: int) -> torch.Tensor:
+        return torch.zeros(train.batch_lstm, train.history, inputs)
+
+
+class WindowReader(OnlineReader):
+    """The last `history` samples, run through the LSTM whole at every step."""
+
+    def __init__(self, model: WindowLSTM):
+        self.model = model
+        self.window: deque[np.ndarray] = deque(maxlen=model.history)
+
+    def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
+        self.window.append(sample)
+        if len(self.window) < self.model.history:
+            return None
+        prediction = self.model.answer_windows(np.stack(self.window)[None], np.zeros(1, int))
+        return prediction.latents[0], prediction.log_error[0]
