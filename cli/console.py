@@ -23,9 +23,13 @@ warnings.showwarning = one_line_warning
 
 
 def run_or_exit(action: Callable[[], T]) -> T:
-    """Run a library call; a user-caused error becomes one line on stderr and exit code 1."""
+    """Run a library call; a user-caused error becomes one line on stderr and exit code 1, a stop request
+    that the call could not turn into a clean end one line and exit code 130."""
     try:
         return action()
+    except KeyboardInterrupt as e:  # softarm.interrupt.Escalated (a second Ctrl-C) says what stays on disk
+        err.print(f"interrupted: {e}" if str(e) else "interrupted", markup=False)
+        raise typer.Exit(130) from None
     except SoftarmError as e:
         err.print(f"error: {e}", markup=False)
         raise typer.Exit(1) from None

@@ -37,7 +37,8 @@ def sim(
                  "run.arms": arms, "run.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
     with LazyProgress(err, "simulating", cfg.n_frames, "frames", scale=cfg.run.arms, quiet=quiet, log=out) as bar:
-        result = run_or_exit(lambda: simulate(cfg, out_path, force=force, arch=arch, progress=bar.update))
+        result = run_or_exit(lambda: simulate(cfg, out_path, force=force, arch=arch, progress=bar.update,
+                                              inputs=[config] if config else []))
     files = ", ".join(str(p) for p in result.paths)
     size = result.bytes / 1e6
     if not result.complete:

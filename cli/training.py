@@ -43,13 +43,15 @@ def train(
     cfg = run_or_exit(lambda: load_config(config, overrides))
     with LazyProgress(err, "training", 1, "steps", quiet=quiet, log=out) as bar:
         result = run_or_exit(lambda: run_training(recordings, cfg, out_path, resume=resume, force=force, spawn=spawn,
-                                                  rrd=rrd, minutes=minutes, progress=training_progress(bar)))
+                                                  rrd=rrd, minutes=minutes, progress=training_progress(bar),
+                                                  inputs=[config] if config else []))
     if not result.complete:
-        if result.checkpoint.exists():
+        if result.saved:
             complain(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "
                      f"{' '.join(map(str, recordings))} --out {result.checkpoint} --resume")
         else:
-            complain("interrupted before the first epoch finished: no checkpoint was written")
+            earlier = f"; {result.checkpoint} is still the earlier run's" if result.checkpoint.exists() else ""
+            complain(f"interrupted before the first epoch finished: nothing was written{earlier}")
         raise typer.Exit(130)
     if not quiet:
         out.print(metrics_table(result.metrics))

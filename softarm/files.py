@@ -1,62 +1,152 @@
-"""Output files: checked before any work, written whole or not at all, told apart by fingerprint.
+"""Output files: checked against each other and against every input before any work, claimed by one run at a
+time, written whole or not at all, told apart by fingerprint.
 
-Every writer in softarm (recordings, checkpoints, metrics, .rrd timelines, PNGs) writes to
-`<name>.part` and renames it on success, so a path without `.part` is always a whole file.
+Every writer in softarm (recordings, checkpoints, metrics, .rrd timelines, PNGs) writes to `<name>.part`
+and renames it on success, so a path without `.part` is always a whole file. A run holds each of its
+outputs with a lock (`.<name>.lock` beside it, an flock the kernel drops when the process ends, however it
+ends): a second run on the same output is refused with one line instead of racing the first. `--force`
+replaces an old output, never an input.
 """
 
+import errno
+import fcntl
 import hashlib
 import json
 import math
 import os
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
-from typing import Any, Iterator, Union
+from typing import Any, Iterator, Sequence, Union
 
 from softarm.errors import OutputError
 
+PathLike = Union[str, Path]
 
-def check_outputs(paths: list[Path], force: bool) -> None:
-    """Refuse before any work: two outputs on one path, an existing file (unless force), a parent that is a
-    file or is read-only."""
-    paths = [Path(p) for p in paths]
-    if len(set(paths)) != len(paths):
-        raise OutputError(f"the outputs {', '.join(map(str, paths))} must name different files")
-    for path in paths:
+
+def check_outputs(outputs: Sequence[PathLike], force: bool, inputs: Sequence[PathLike] = ()) -> None:
+    """Refuse before any work, creating nothing: two outputs on one file, an output that is one of the inputs
+    (the same path once resolved, or a hard link to it), an existing output (unless force), an output that is
+    a folder, or one whose folder cannot be made or written."""
+    outputs = [Path(p) for p in outputs]
+    for k, path in enumerate(outputs):
+        for other in outputs[:k]:
+            if same_file(path, other):
+                raise OutputError(f"the outputs {other} and {path} are one file: give each its own name")
+        for source in map(Path, inputs):
+            if same_file(path, source):
+                raise OutputError(f"output {path} is the input {source}: write the output elsewhere "
+                                  f"(--force replaces an old output, never an input)")
         if path.is_dir():
             raise OutputError(f"output {path} is a folder; give a file name")
         if path.exists() and not force:
             raise OutputError(f"output {path} already exists; pass --force to overwrite it")
-        parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
-        if not parent.is_dir():
-            raise OutputError(f"cannot write {path}: {parent} is a file, not a folder")
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-        except OSError as e:
-            raise OutputError(f"cannot create the folder of {path}: {e.strerror}") from None
-        probe = part_path(path)
-        try:
-            probe.touch()
-            probe.unlink()
-        except OSError as e:
-            raise OutputError(f"cannot write {path}: {e.strerror}") from None
+        check_writable_folder(path)
 
 
-def part_path(path: Union[str, Path]) -> Path:
+def check_writable_folder(path: Path) -> None:
+    """The folder of `path` exists and can be written, or can be made where the nearest existing one is."""
+    parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
+    if not parent.is_dir():
+        raise OutputError(f"cannot write {path}: {parent} is a file, not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise OutputError(f"cannot write {path}: {parent} is not writable")
+
+
+def same_file(a: Path, b: Path) -> bool:
+    """One file by two names: equal once resolved, or a hard link (one device and inode)."""
+    if Path(a).resolve() == Path(b).resolve():
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist
+        return False
+
+
+@contextmanager
+def made_folders(paths: Sequence[PathLike]) -> Iterator[None]:
+    """Make the missing folders of `paths` for the block; if it fails, remove those it made that stayed empty."""
+    made: list[Path] = []
+    try:
+        for path in map(Path, paths):
+            missing = [p for p in [path.parent, *path.parent.parents] if not p.exists()]
+            for folder in reversed(missing):
+                folder.mkdir(exist_ok=True)
+                made.append(folder)
+        yield
+    except BaseException:
+        for folder in reversed(made):
+            try:
+                folder.rmdir()
+            except OSError:  # not empty (something else wrote there) or gone: leave it
+                pass
+        raise
+
+
+@contextmanager
+def claimed(paths: Sequence[PathLike]) -> Iterator[None]:
+    """Hold every output of a run (their folders must exist); a second run on any of them is refused, the first
+    output it holds named (the run's main one, listed first)."""
+    with ExitStack() as stack:
+        for path in dict.fromkeys(Path(p).resolve() for p in paths):
+            stack.enter_context(_lock(path))
+        yield
+
+
+def lock_path(path: PathLike) -> Path:
+    path = Path(path)
+    return path.with_name(f".{path.name}.lock")
+
+
+@contextmanager
+def _lock(path: Path) -> Iterator[None]:
+    lock = lock_path(path)
+    while True:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as e:
+            owner = os.read(fd, 32).decode(errors="replace").strip()
+            os.close(fd)
+            if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+                raise
+            raise OutputError(f"{path} is being written by another softarm run (pid {owner or 'unknown'}); "
+                              f"wait for it to end, or write elsewhere") from None
+        try:
+            same = os.stat(lock).st_ino == os.fstat(fd).st_ino  # the holder before us may have removed it
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()}\n".encode())
+        yield
+    finally:
+        try:
+            os.unlink(lock)  # while still held: a run that opened it before sees another inode and retries
+        except FileNotFoundError:
+            pass
+        os.close(fd)
+
+
+def part_path(path: PathLike) -> Path:
     """Where `path` grows until it is whole: `<name>.part` beside it."""
     path = Path(path)
     return path.with_name(path.name + ".part")
 
 
-def publish(path: Union[str, Path]) -> Path:
+def publish(path: PathLike) -> Path:
     """Give the finished `<name>.part` its final name, atomically (a reader never sees half a file)."""
     os.replace(part_path(path), path)
     return Path(path)
 
 
 @contextmanager
-def atomic_path(path: Union[str, Path]) -> Iterator[Path]:
+def atomic_path(path: PathLike) -> Iterator[Path]:
     """Write to the yielded `<path>.part`; it becomes `path` only when the block succeeds, else it is removed."""
     part = part_path(path)
+    part.parent.mkdir(parents=True, exist_ok=True)
     try:
         yield part
     except BaseException:
@@ -65,7 +155,7 @@ def atomic_path(path: Union[str, Path]) -> Iterator[Path]:
     publish(path)
 
 
-def write_json(path: Union[str, Path], document: Any) -> Path:
+def write_json(path: PathLike, document: Any) -> Path:
     """Indented JSON written whole; NaN becomes null, since strict JSON readers reject NaN."""
     with atomic_path(path) as part:
         part.write_text(json.dumps(finite_or_null(document), indent=1, allow_nan=False))
@@ -81,7 +171,7 @@ def finite_or_null(value: Any) -> Any:
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def fingerprint(path: Union[str, Path]) -> str:
+def fingerprint(path: PathLike) -> str:
     """First 16 hex digits of the file's SHA-256: enough to tell recordings apart, short enough to read."""
     digest = hashlib.sha256()
     with open(path, "rb") as f:

@@ -1,27 +1,45 @@
-"""Ctrl-C as a request: long jobs check a flag at safe points instead of dying mid-write."""
+"""Ctrl-C as a request: long jobs check a flag at safe points instead of dying mid-write.
+
+SIGINT (Ctrl-C), SIGTERM (`timeout`, batch schedulers, container stops) and SIGHUP (a closed terminal) all
+count as the request. A second one while the first is being honoured raises `Escalated`: the job then
+ends at once with what is on disk.
+"""
 
 import signal
 from contextlib import contextmanager
 from typing import Iterator
 
 _open: list[list[int]] = []  # the flags of the stop_on_signal blocks in force, innermost last
+SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class Escalated(KeyboardInterrupt):
+    """A second stop request: stop now, without waiting for a clean end."""
+
+
+class Stopped(Exception):
+    """A stop request ended work that has nothing to keep yet (training while it reads its recordings)."""
 
 
 @contextmanager
 def stop_on_signal() -> Iterator[list[int]]:
-    """Turn Ctrl-C (and SIGTERM) into a flag the loop checks between blocks, so no frame is half written.
+    """Turn Ctrl-C (and SIGTERM, SIGHUP) into a flag the loop checks between blocks, so no frame is half
+    written; a second request raises Escalated.
 
-    Blocks nest (a suite's levels each run a simulation): a signal caught by an inner block is passed
-    on to the enclosing one when the inner block ends, so a request that came as the inner job finished
-    still stops the outer one.
+    Blocks nest (a suite's levels each run a simulation): an inner block starts with the requests its outer one
+    has caught, and passes the ones it catches on to it when it ends, so a request that came before the inner
+    job started, or as it finished, still stops both.
     """
-    caught: list[int] = []
+    inherited = list(_open[-1]) if _open else []
+    caught = list(inherited)
     handlers = {}
 
     def handle(signum: int, _frame: object) -> None:
         caught.append(signum)
+        if len(caught) > 1:
+            raise Escalated()
 
-    for sig in (signal.SIGINT, signal.SIGTERM):
+    for sig in SIGNALS:
         try:
             handlers[sig] = signal.signal(sig, handle)
         except ValueError:  # not the main thread: leave signals alone
@@ -33,5 +51,5 @@ def stop_on_signal() -> Iterator[list[int]]:
         _open.pop()
         for sig, old in handlers.items():
             signal.signal(sig, old)
-        if caught and _open:
-            _open[-1].extend(caught)
+        if _open:
+            _open[-1].extend(caught[len(inherited):])

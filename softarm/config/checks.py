@@ -8,6 +8,7 @@ from softarm.errors import ConfigError
 
 INTEGRATORS = ("symplectic_euler",)
 EXCITATION_KINDS = ("product_of_sines", "sum_of_sines")
+MAX_SEED = 2**32 - 1
 
 
 def _require(ok: bool, key: str, value: Any, allowed: str) -> None:
@@ -42,7 +43,8 @@ def check_ranges(c: Config) -> None:
     _require(r.duration > 0, "run.duration", r.duration, "must be > 0")
     _require(c.n_frames >= 1, "run.duration", r.duration, f"must cover at least one frame of {i.frame_dt} s")
     _require(r.arms >= 1, "run.arms", r.arms, "must be >= 1")
-    _require(r.seed >= 0, "run.seed", r.seed, "must be >= 0")
+    _require(0 <= r.seed <= MAX_SEED - (r.arms - 1), "run.seed", r.seed,
+             f"must be in 0..{MAX_SEED - (r.arms - 1)} (seeds are 32-bit; arm i of run.arms = {r.arms} uses run.seed + i)")
     t = c.train
     _require(0 < t.train_fraction < 1, "train.train_fraction", t.train_fraction, "must be in (0, 1)")
     _require(0 < t.test_fraction and t.train_fraction + t.test_fraction < 1, "train.test_fraction",
@@ -57,13 +59,13 @@ def check_ranges(c: Config) -> None:
     for key in ("lr_ae", "lr_lstm"):
         _require(getattr(t, key) > 0, f"train.{key}", getattr(t, key), "must be > 0")
     _require(0 <= t.min_feature_std < 1, "train.min_feature_std", t.min_feature_std, "must be in [0, 1)")
-    _require(t.seed >= 0, "train.seed", t.seed, "must be >= 0")
+    _require(0 <= t.seed <= MAX_SEED, "train.seed", t.seed, f"must be in 0..{MAX_SEED} (seeds are 32-bit)")
 
 
 def _check_sensing(s: SensingConfig) -> None:
     for key in ("noise", "bias", "drift", "quantisation", "dropout_time"):
         _require(getattr(s, key) >= 0, f"sensing.{key}", getattr(s, key), "must be >= 0")
-    _require(s.seed >= 0, "sensing.seed", s.seed, "must be >= 0")
+    _require(0 <= s.seed <= MAX_SEED, "sensing.seed", s.seed, f"must be in 0..{MAX_SEED} (seeds are 32-bit)")
     _require(s.dropout_sensor >= -1, "sensing.dropout_sensor", s.dropout_sensor, "must be a sensor index, or -1 for none")
     if s.pairs:
         _require(s.dropout_sensor < len(s.pairs), "sensing.dropout_sensor", s.dropout_sensor,

@@ -1,6 +1,7 @@
 """Camera blackouts: which frames the camera misses, and how the fused view (camera where it sees,
 imagination where it is blind) scores."""
 
+import math
 from typing import Sequence
 
 import numpy as np
@@ -18,19 +19,20 @@ def parse_blind(ranges: Sequence[str]) -> list[tuple[float, float]]:
             pair = (float(start), float(end))
         except ValueError:
             pair = None
-        if not sep or pair is None or not pair[0] < pair[1]:
+        if not sep or pair is None or not (math.isfinite(pair[0]) and not math.isnan(pair[1]) and pair[0] < pair[1]):
             raise BlindRangeError(f"--blind {text!r}: give START:END in seconds with START < END, e.g. 95:100")
         out.append(pair)
     return out
 
 
 def blind_mask(times: np.ndarray, ranges: Sequence[tuple[float, float]]) -> np.ndarray:
-    """Frames whose time lies in any [start, end) range; a range must overlap the recording."""
+    """Frames whose time lies in any [start, end) range; a range must overlap the recording (the part of it
+    beyond the recording is no frame)."""
     mask = np.zeros(len(times), bool)
     end_time = times[-1] + (times[1] - times[0] if len(times) > 1 else 0.0)
     for start, end in ranges:
-        if start < times[0] - 1e-9 or end > end_time + 1e-9:
-            raise BlindRangeError(f"--blind {start:g}:{end:g} is outside the recording, which covers "
+        if end <= times[0] + 1e-9 or start >= end_time - 1e-9:
+            raise BlindRangeError(f"--blind {start:g}:{end:g} lies outside the recording, which covers "
                                   f"{times[0]:g}..{end_time:g} s")
         mask |= (times >= start - 1e-9) & (times < end - 1e-9)
     return mask

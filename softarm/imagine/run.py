@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional, Sequence, Union
 
-from softarm.files import check_outputs
+from softarm.files import check_outputs, claimed, made_folders
 from softarm.imagine.blind import parse_blind
 from softarm.imagine.recording import write_imagination
 
@@ -46,9 +46,18 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
 
     start = time.perf_counter()
     ranges = parse_blind(blind)  # bad input first: a refused run creates no folder
-    check_outputs([Path(p) for p in (rrd, mcap, png) if p is not None], force)
+    outputs = [Path(p) for p in (rrd, mcap, png) if p is not None]
+    check_outputs(outputs, force, inputs=[checkpoint, recording])
+    with made_folders(outputs), claimed(outputs):
+        result = compute_replay(checkpoint, recording, ranges, nodes=rrd is not None or spawn, sensor_noise=sensor_noise)
+        write_outputs(result, rrd, mcap, png, spawn)
+    return ReplayOutcome(result, time.perf_counter() - start)
+
+
+def write_outputs(result: "Replay", rrd: Optional[PathLike], mcap: Optional[PathLike], png: Optional[PathLike],
+                  spawn: bool) -> None:
+    """The timeline (file and/or viewer), the imagination MCAP and the filmstrip asked for."""
     timeline = rrd is not None or spawn
-    result = compute_replay(checkpoint, recording, ranges, nodes=timeline, sensor_noise=sensor_noise)
     if timeline or mcap is not None:
         from softarm.view.images import probability_bytes
 
@@ -63,4 +72,3 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
         from softarm.view.filmstrip import replay_filmstrip, save_png  # PIL only when a picture is asked for
 
         save_png(replay_filmstrip(result), png)
-    return ReplayOutcome(result, time.perf_counter() - start)

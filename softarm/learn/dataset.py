@@ -9,7 +9,7 @@ first frame, so validation covers motions the networks never saw.
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional, Sequence, Union
+from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 
@@ -17,6 +17,7 @@ from softarm.arm.drive import HELD_OUT_SEED_BASE
 from softarm.config import Config, TrainConfig
 from softarm.errors import RecordingError
 from softarm.files import fingerprint
+from softarm.interrupt import Stopped
 from softarm.model.fits import check_fits, recording_shape
 from softarm.model.inputs import InputChannel, read_channels
 from softarm.model.windows import input_windows, window_count
@@ -99,16 +100,18 @@ def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
 
 
 def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Sequence[InputChannel],
-                 cache: Optional[Path] = None) -> Dataset:
+                 cache: Optional[Path] = None, stop: Callable[[], bool] = lambda: False) -> Dataset:
     """Read recordings (all of one image shape and channel widths), each channel as `config` reads it, and
     split each by time. With a `cache` folder the frames go to disk and are memory-mapped, so the memory a
-    corpus needs does not grow with its size."""
+    corpus needs does not grow with its size. `stop()` is asked before each recording: True raises Stopped."""
     if not paths:
         raise RecordingError("give at least one recording")
     train, channels = config.train, tuple(channels)
     sequences, first = [], None
     held_out = validation_indices(len(paths), train.validation_recordings)
     for path in map(Path, paths):
+        if stop():
+            raise Stopped()
         rec = read_recording(path, nodes=any(c.needs_nodes(config) for c in channels))
         if int(rec.model.get("seed", 0)) >= HELD_OUT_SEED_BASE:
             raise RecordingError(f"{path.name} was made from seed {rec.model['seed']}, one of the held-out suite's "

@@ -1,19 +1,25 @@
-"""`softarm train` as one call: check the outputs, train (or resume), evaluate, write checkpoint and metrics.
+"""`softarm train` as one call: check the inputs and outputs, train (or resume), evaluate, write the checkpoint
+and its metrics.
 
-Light to import: torch loads when `train()` first runs.
+Light to import: torch loads when `train()` first runs. A stop request (Ctrl-C, SIGTERM, SIGHUP) is honoured
+from the first moment: while the recordings are read it ends the run with nothing written, later it keeps the
+last finished epoch; the frame cache is removed either way, and a later run sweeps the caches of runs that were
+killed outright.
 """
 
-import json
-import tempfile
+import math
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Optional, Sequence, Union
 
 from softarm.config import Config, load_config
+from softarm.corpus.manifest import folder_recordings
 from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingError
-from softarm.files import check_outputs, write_json
-from softarm.interrupt import stop_on_signal
+from softarm.files import check_outputs, claimed, made_folders, write_json
+from softarm.interrupt import Stopped, stop_on_signal
+from softarm.learn.cache import frame_cache
 from softarm.learn.observer import Progress, open_observer
 from softarm.model.registry import check_latent_model
 
@@ -28,26 +34,20 @@ class TrainResult:
     metrics: Optional[dict[str, Any]]
     complete: bool
     wall_seconds: float
+    saved: bool = True   # the checkpoint is this run's (False: stopped before its first epoch ended, nothing written)
 
 
-def expand_folders(recordings: Sequence[PathLike]) -> list[Path]:
-    """A folder stands for the recordings its corpus.json lists (a corpus), or else every recording in it,
-    sorted by name."""
-    out: list[Path] = []
+def expand_folders(recordings: Sequence[PathLike]) -> tuple[list[Path], list[Path]]:
+    """The recordings to read, a folder standing for its corpus's (or else for every recording in it), and
+    the folders' own files that are read too (their manifests)."""
+    out, manifests = [], []
     for path in map(Path, recordings):
-        found = folder_recordings(path) if path.is_dir() else [path]
+        found, read = folder_recordings(path) if path.is_dir() else ([path], [])
         if not found:
             raise RecordingError(f"{path} holds no recordings (.mcap files)")
         out.extend(found)
-    return out
-
-
-def folder_recordings(folder: Path) -> list[Path]:
-    manifest = folder / "corpus.json"
-    if manifest.is_file():
-        groups = json.loads(manifest.read_text()).get("groups", {})
-        return sorted(folder / name for group in groups.values() for name in group["recordings"])
-    return sorted(p for p in folder.glob("*.mcap") if p.is_file())
+        manifests.extend(read)
+    return out, manifests
 
 
 def default_checkpoint(recordings: Sequence[PathLike]) -> Path:
@@ -60,50 +60,80 @@ def metrics_path_for(checkpoint: Path) -> Path:
     return checkpoint.with_suffix(".metrics.json")
 
 
-def check_train_outputs(checkpoint: Path, rrd: Optional[PathLike], resume: bool, force: bool) -> None:
-    """Refuse before any work: a checkpoint that exists (unless resume or force), nothing to resume, bad folders."""
+def train_outputs(checkpoint: Path, rrd: Optional[PathLike]) -> list[Path]:
+    return [checkpoint, metrics_path_for(checkpoint), *([Path(rrd)] if rrd is not None else [])]
+
+
+def check_train_outputs(checkpoint: Path, rrd: Optional[PathLike], resume: bool, force: bool,
+                        inputs: Sequence[PathLike] = ()) -> None:
+    """Refuse before any work: a checkpoint that is a folder or exists (unless resume or force), nothing to
+    resume, outputs that are one file or an input, folders that cannot be written."""
     checkpoint = Path(checkpoint)
+    if checkpoint.is_dir():
+        raise OutputError(f"--out {checkpoint} is a folder; give a checkpoint file name, e.g. {checkpoint / 'model.pt'}")
     if resume and not checkpoint.exists():
         raise CheckpointError(f"--resume: there is no checkpoint {checkpoint} to continue")
     if checkpoint.exists() and not (resume or force):
         raise OutputError(f"checkpoint {checkpoint} already exists; pass --resume to continue it or --force to replace it")
-    check_outputs([checkpoint, metrics_path_for(checkpoint)], force=True)  # folders and permissions
-    if rrd is not None:
-        check_outputs([Path(rrd)], force)
+    check_outputs(train_outputs(checkpoint, rrd), force=True, inputs=inputs)
+    if rrd is not None and Path(rrd).exists() and not force:
+        raise OutputError(f"output {rrd} already exists; pass --force to overwrite it")
+
+
+def check_minutes(minutes: Optional[float]) -> None:
+    if minutes is not None and not (math.isfinite(minutes) and minutes > 0):
+        raise ConfigError(f"--minutes {minutes:g}: give a finite, positive budget in minutes")
 
 
 def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: Optional[PathLike] = None,
           resume: bool = False, force: bool = False, rrd: Optional[PathLike] = None, spawn: bool = False,
           progress: Optional[Progress] = None, stop: Callable[[], bool] = lambda: False,
-          minutes: Optional[float] = None) -> TrainResult:
+          minutes: Optional[float] = None, inputs: Sequence[PathLike] = ()) -> TrainResult:
     """Train (or with resume, continue) on recordings; write the checkpoint and, at the end, its metrics JSON.
 
     `minutes` fits a new run's schedules into that wall-clock budget (softarm.learn.budget). `rrd` saves and
-    `spawn` shows a live Rerun view. Ctrl-C (or SIGTERM, or `stop()` returning True)
-    ends training within a batch; the checkpoint of the last finished epoch stays (`complete` False).
+    `spawn` shows a live Rerun view. Ctrl-C (or SIGTERM, SIGHUP, or `stop()` returning True) ends training
+    within a batch; the checkpoint of the last finished epoch stays (`complete` False). `inputs` (a config
+    file, say) are files besides the recordings that no output may replace.
     """
     start = time.perf_counter()
-    if minutes is not None and minutes <= 0:
-        raise ConfigError(f"--minutes {minutes:g}: give a positive budget")
+    check_minutes(minutes)
     config = config if config is not None else load_config()
     check_latent_model(config.train.model)  # an unknown model is refused before any work
     out = Path(out) if out is not None else default_checkpoint(recordings)
-    recordings = expand_folders(recordings)
-    check_train_outputs(out, rrd, resume, force)
+    recordings, manifests = expand_folders(recordings)
+    check_train_outputs(out, rrd, resume, force, [*recordings, *manifests, *inputs])
+    outputs = train_outputs(out, rrd)
+    try:
+        with stop_on_signal() as caught, made_folders(outputs), claimed(outputs):
+            return _train(recordings, config, out, resume, rrd, spawn, progress, lambda: bool(caught) or stop(),
+                          minutes, start)
+    except Stopped:  # while the recordings were read: nothing was written, and no folder made for it is left
+        return TrainResult(out, None, None, False, time.perf_counter() - start, saved=False)
+
+
+def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd: Optional[PathLike], spawn: bool,
+           progress: Optional[Progress], stop: Callable[[], bool], minutes: Optional[float], start: float) -> TrainResult:
+    """Read, fit, evaluate and save, once every input and output is checked and held."""
     from softarm.learn.evaluate import evaluate, fit_baselines  # torch loads here, not when softarm is imported
     from softarm.learn.train import fit
     from softarm.learn.train_state import start_state
 
-    with tempfile.TemporaryDirectory(prefix=f".{out.stem}-frames-", dir=out.parent) as cache:
-        state = start_state(recordings, config, out, resume, Path(cache) if len(recordings) > 1 else None)
-        if minutes is not None and not resume:
+    if not resume:
+        metrics_path_for(out).unlink(missing_ok=True)  # it described the checkpoint this run replaces
+    with frame_cache(out, len(recordings) > 1) as cache:
+        state = start_state(recordings, config, out, resume, cache, stop)
+        if minutes is not None and resume:
+            warnings.warn(f"--minutes {minutes:g} is ignored with --resume: the saved run keeps its own schedule",
+                          stacklevel=3)
+        elif minutes is not None:
             from softarm.learn.budget import fit_to_minutes
 
             fit_to_minutes(state, minutes, time.perf_counter() - start)
-        with open_observer(rrd, spawn) as observer, stop_on_signal() as caught:
-            complete = fit(state, out, observer, progress or (lambda *_: None), lambda: bool(caught) or stop())
+        with open_observer(rrd, spawn) as observer:
+            complete = fit(state, out, observer, progress or (lambda *_: None), stop)
         if not complete:
-            return TrainResult(out, None, None, False, time.perf_counter() - start)
+            return TrainResult(out, None, None, False, time.perf_counter() - start, saved=resume or state.saves > 0)
         baselines = fit_baselines(state)
         metrics = evaluate(state, baselines)
         state.save(out, metrics, baselines)

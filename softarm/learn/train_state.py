@@ -8,13 +8,13 @@ needs to imagine (docs/model.md says what the networks see; `checkpoint` says ho
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 import torch
 
 from softarm import __version__
-from softarm.config import Config
+from softarm.config import Config, load_config
 from softarm.errors import CheckpointError
 from softarm.learn.codes import LatentCodes
 from softarm.learn.dataset import Dataset, load_dataset
@@ -41,6 +41,7 @@ class TrainState:
     epoch: int = 0      # epochs finished in this phase
     losses: dict[str, list[float]] = field(
         default_factory=lambda: {"ae_train": [], "ae_test": [], "latent_train": [], "latent_val": []})
+    saves: int = 0      # checkpoints this run has written
     _codes: Optional[LatentCodes] = field(default=None, repr=False)
 
     def codes(self) -> LatentCodes:
@@ -94,6 +95,7 @@ class TrainState:
 
     def save(self, path: Path, metrics: Optional[dict[str, Any]] = None, baselines: Optional[Baselines] = None) -> None:
         save_checkpoint(path, self.to_checkpoint(metrics, baselines))
+        self.saves += 1
 
     def restore(self, saved: dict[str, Any], path: Path) -> None:
         """Continue from a checkpoint of the same recordings (refused otherwise)."""
@@ -101,27 +103,31 @@ class TrainState:
             names = ", ".join(r["name"] for r in saved["recordings"])
             raise CheckpointError(f"--resume: {path} was trained on other recordings ({names}); "
                                   "give the same recordings in the same order")
-        self.autoencoder.load_state_dict(saved["autoencoder"])
         self.phase, self.epoch = saved["progress"]["phase"], saved["progress"]["epoch"]
         self.losses = {k: list(v) for k, v in saved["losses"].items()}
-        if self.phase == "ae":
-            self.ae_optimizer.load_state_dict(saved["optimizer"])
-            return
-        self.latent_scaler, self.inputs = Scaler.from_state(saved["latent_scaler"]), Inputs.from_state(saved["inputs"])
-        self.make_latent()
-        self.latent.load_state_dict(saved["latent_model"])
-        self.latent_optimizer.load_state_dict(saved["optimizer"])
+        try:
+            self.autoencoder.load_state_dict(saved["autoencoder"])
+            if self.phase == "ae":
+                self.ae_optimizer.load_state_dict(saved["optimizer"])
+                return
+            self.latent_scaler, self.inputs = Scaler.from_state(saved["latent_scaler"]), Inputs.from_state(saved["inputs"])
+            self.make_latent()
+            self.latent.load_state_dict(saved["latent_model"])
+            self.latent_optimizer.load_state_dict(saved["optimizer"])
+        except (RuntimeError, KeyError, TypeError, ValueError) as e:
+            raise CheckpointError(f"--resume: {path} does not fit this run's networks ({type(e).__name__}); "
+                                  "start afresh with --force") from None
 
 
 def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, resume: bool,
-                cache: Optional[Path] = None) -> TrainState:
+                cache: Optional[Path] = None, stop: Callable[[], bool] = lambda: False) -> TrainState:
     """A fresh run on `paths`, or with resume the run saved in `out` (whose settings win, with a warning).
-    With `cache`, frames are memory-mapped from files there."""
+    With `cache`, frames are memory-mapped from files there; `stop()` is asked between recordings."""
     saved = load_checkpoint(out) if resume else None
     if saved is not None:
         config = _saved_config(saved, config)
     t = config.train
-    data = load_dataset(paths, config, channels(), cache)
+    data = load_dataset(paths, config, channels(), cache, stop)
     torch.manual_seed(t.seed)
     autoencoder = Autoencoder(*data.image_shape, t.latent)
     state = TrainState(config, data, autoencoder, torch.optim.Adam(autoencoder.parameters(), lr=t.lr_ae))
@@ -131,12 +137,12 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
 
 
 def _saved_config(saved: dict[str, Any], asked: Config) -> Config:
-    """The saved run's config; training and sensing settings asked for now that differ from it are named
-    and ignored."""
+    """The saved run's config; training and sensing settings asked for now (those that differ from the
+    defaults) that differ from it are named and ignored."""
     config = checkpoint_config(saved)
-    now, then = asked.to_dict(), config.to_dict()
+    now, then, default = asked.to_dict(), config.to_dict(), load_config().to_dict()
     ignored = [f"{section}.{k} = {v}" for section in ("train", "sensing") for k, v in now[section].items()
-               if then[section].get(k) != v]
+               if then[section].get(k) != v and default[section].get(k) != v]
     if ignored:
         warnings.warn("--resume continues with the saved run's settings; ignored: " + ", ".join(ignored), stacklevel=3)
     return config

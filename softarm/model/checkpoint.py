@@ -7,8 +7,6 @@ trained on, how far training got (for --resume), the baselines and the metrics. 
 (`softarm-checkpoint/1`: the stretch alone, an LSTM) is read as today's.
 """
 
-import pickle
-import zipfile
 from pathlib import Path
 from typing import Any, Union
 
@@ -16,8 +14,9 @@ import torch
 
 from softarm.config import Config, config_from_dict, load_config
 from softarm.config.load import merge
-from softarm.errors import CheckpointError
+from softarm.errors import CheckpointError, SoftarmError
 from softarm.files import atomic_path
+from softarm.model.contents import check_contents
 
 FORMAT = "softarm-checkpoint/2"
 PREVIOUS = "softarm-checkpoint/1"
@@ -37,12 +36,27 @@ def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:
         raise CheckpointError(f"checkpoint {path} not found" if not path.exists() else f"{path} is not a file")
     try:
         state = torch.load(path, map_location="cpu", weights_only=True)
-    except (pickle.UnpicklingError, zipfile.BadZipFile, RuntimeError, EOFError, ValueError) as e:
-        raise CheckpointError(f"{path} is not a softarm checkpoint ({type(e).__name__}: "
-                              f"{str(e).splitlines()[0][:120] if str(e) else 'unreadable'})") from None
+    except Exception as e:  # a damaged file fails anywhere in torch's unpickler or zip reader, in any way
+        raise CheckpointError(f"{path} is not a softarm checkpoint, or is damaged ({type(e).__name__}: "
+                              f"{first_line(e)})") from None
     if not isinstance(state, dict) or state.get("format") not in (FORMAT, PREVIOUS):
         raise CheckpointError(f"{path} is not a softarm checkpoint (expected format {FORMAT})")
-    return upgrade(state) if state["format"] == PREVIOUS else state
+    try:
+        state = upgrade(state) if state["format"] == PREVIOUS else state
+    except (KeyError, TypeError, AttributeError):
+        raise CheckpointError(f"{path} is damaged (its {PREVIOUS} contents are incomplete): train it again") from None
+    check_contents(state, path)
+    try:
+        checkpoint_config(state)
+    except SoftarmError as e:
+        raise CheckpointError(f"{path} holds a config this softarm cannot read ({e})") from None
+    return state
+
+
+def first_line(error: BaseException) -> str:
+    """The error's message cut to one short line (torch's run over many)."""
+    text = str(error).strip()
+    return text.splitlines()[0][:120] if text else "unreadable"
 
 
 def upgrade(old: dict[str, Any]) -> dict[str, Any]:

@@ -7,14 +7,14 @@ float64, and the latent model reads them as float32.
 """
 
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import torch
 
 from softarm.errors import CheckpointError, RecordingError
 from softarm.model.autoencoder import Autoencoder, decode_codes
-from softarm.model.checkpoint import checkpoint_config
+from softarm.model.checkpoint import checkpoint_config, first_line
 from softarm.model.inputs import Inputs
 from softarm.model.latent import LatentModel
 from softarm.model.prediction import Prediction
@@ -36,16 +36,16 @@ class Imaginer:
         if state.get("latent_model") is None:
             raise CheckpointError("the checkpoint's training stopped before the latent model: finish it with --resume")
         t = checkpoint_config(state).train
-        latent_scaler = Scaler.from_state(state["latent_scaler"])
-        inputs = Inputs.from_state(state["inputs"])
-        autoencoder = Autoencoder(*state["image_shape"], t.latent)
-        latent = latent_model_class(t.model)(inputs.features, latent_scaler.kept, t)
         try:
-            autoencoder.load_state_dict(state["autoencoder"])
-            latent.load_state_dict(state["latent_model"])
-        except (RuntimeError, KeyError) as e:
-            raise CheckpointError(f"the checkpoint's weights do not fit this softarm's networks: "
-                                  f"{str(e).splitlines()[0][:160]}") from None
+            latent_scaler = Scaler.from_state(state["latent_scaler"])
+            inputs = Inputs.from_state(state["inputs"])
+        except (KeyError, TypeError, ValueError, RuntimeError):
+            raise CheckpointError("the checkpoint's scalers are damaged: train it again") from None
+        if inputs.features <= 0 or latent_scaler.kept <= 0 or len(latent_scaler.mean) != t.latent:
+            raise CheckpointError("the checkpoint's scalers do not fit its networks: train it again")
+        networks = {"autoencoder": lambda: Autoencoder(*state["image_shape"], t.latent),
+                    "latent_model": lambda: latent_model_class(t.model)(inputs.features, latent_scaler.kept, t)}
+        autoencoder, latent = (loaded(make, state[key]) for key, make in networks.items())
         autoencoder.eval()
         latent.eval()
         autoencoder.to(memory_format=torch.channels_last)  # faster convolutions when decoding on the CPU
@@ -84,3 +84,20 @@ class Imaginer:
         """The prediction and the imagined pixel probabilities (M, H, W) of a whole raw input series (T, F)."""
         prediction = self.predict(raw)
         return prediction, self.decode(prediction.latents)
+
+
+def loaded(make: Callable[[], torch.nn.Module], weights: dict[str, torch.Tensor]) -> torch.nn.Module:
+    """The network `make` builds, with `weights`; their shapes are held against it first on torch's meta device,
+    where nothing is allocated, so a damaged checkpoint claiming a huge network costs no memory."""
+    with torch.device("meta"):
+        shapes = {key: tuple(value.shape) for key, value in make().state_dict().items()}
+    found = {key: tuple(value.shape) for key, value in weights.items()}
+    if shapes != found:
+        wrong = sorted(set(shapes) ^ set(found)) or [k for k in shapes if shapes[k] != found[k]]
+        raise CheckpointError(f"the checkpoint's weights do not fit this softarm's networks (first: {wrong[0]})")
+    network = make()
+    try:
+        network.load_state_dict(weights)
+    except (RuntimeError, TypeError, ValueError) as e:
+        raise CheckpointError(f"the checkpoint's weights do not fit this softarm's networks: {first_line(e)}") from None
+    return network

@@ -6,13 +6,14 @@ slots, so a slow disk slows the simulation instead of filling memory and nothing
 never waits on a writer without also watching whether it lives: a writer that dies (killed, out of
 memory) or fails (a full disk) is noticed at the parent's next exchange with the writers (every block,
 and within a second while it waits on them), the others close their files with every frame, and
-`WriterFailed` says which file holds how many frames. A writer alive but stuck (a hung disk) is waited
-for.
+`WriterFailed` says which file holds how many frames. Writers that answer nothing for WRITER_DEADLINE
+seconds while the parent waits on them (a hung disk) fail the same way, and are not waited for again.
 """
 
 import multiprocessing
 import os
 import signal
+import time
 from multiprocessing.connection import Connection, wait
 from pathlib import Path
 from typing import Callable
@@ -26,6 +27,8 @@ from softarm.record.writer_process import Spec, serve
 
 IN_FLIGHT = 2          # slots: one filled by the simulation while the writers encode the other
 GIVE_UP_SECONDS = 30   # a writer that answers nothing for this long while it closes is killed
+# s without a word from any writer while the parent waits on them: the run ends with what reached the disk
+WRITER_DEADLINE = float(os.environ.get("SOFTARM_WRITER_DEADLINE", 120))
 
 
 def writer_processes(arms: int) -> int:
@@ -49,6 +52,7 @@ class RecorderProcess:
         self._processes: list[multiprocessing.process.BaseProcess] = []
         self._busy: list[set[int]] = [set() for _ in range(IN_FLIGHT)]
         self._finished: set[int] = set()  # writers that closed or discarded their files and exited
+        self._stuck = False  # the writers missed WRITER_DEADLINE: nothing more is waited for
         self._next = 0
         try:
             for k in range(count):
@@ -96,7 +100,11 @@ class RecorderProcess:
             part_path(path).unlink(missing_ok=True)
 
     def keep(self) -> None:
-        """After a failure: the living writers close their files with what they hold (complete = "false")."""
+        """After a failure: the living writers close their files with what they hold (complete = "false"); stuck
+        ones are ended at once, their files kept as recoverable .part files."""
+        if self._stuck:
+            self.abandon()
+            return
         living = [k for k, process in enumerate(self._processes) if process.is_alive() and k not in self._finished]
         for k in living:
             try:
@@ -110,6 +118,14 @@ class RecorderProcess:
                         break
                 except (EOFError, OSError):
                     break
+        self._join()
+
+    def abandon(self) -> None:
+        """End every writer now (a second stop request, or stuck writers): their files stay as they are, whole
+        chunks recoverable from the .part files."""
+        for process in self._processes:
+            if process.is_alive():
+                process.kill()
         self._join()
 
     def _drain(self, slot: int) -> None:
@@ -135,6 +151,7 @@ class RecorderProcess:
         """The next message of any writer; a failure or a dead writer raises WriterFailed."""
         living = [k for k in range(len(self._processes)) if k not in self._finished]
         sentinels = {self._processes[k].sentinel: k for k in living}
+        deadline = time.monotonic() + WRITER_DEADLINE
         while True:
             for k in living:
                 conn = self._conns[k]
@@ -150,6 +167,9 @@ class RecorderProcess:
             for item in ready:
                 if item in sentinels and not self._conns[sentinels[item]].poll():
                     self._fail(sentinels[item], None)
+            if not ready and time.monotonic() > deadline:
+                self._stuck = True
+                raise WriterFailed(f"the writer processes answered nothing for {WRITER_DEADLINE:g} s (a hung disk?)")
 
     def _send(self, k: int, message: tuple) -> None:
         try:

@@ -17,6 +17,7 @@ from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
 from mcap.records import Channel, Message, Metadata
 
 from softarm.errors import RecordingError
+from softarm.record.document import check_model
 from softarm.record.format import (
     EXCITATION,
     FORMAT,
@@ -74,15 +75,16 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
     height, width = model["camera"]["height"], model["camera"]["width"]
     frames = (np.stack([_image(messages[IMAGE][s], path, height, width) for s in stamps]) > 127).astype(np.uint8)
     complete = run is not None and run.get("complete") == "true" and not truncated
+    signals = {STRETCH: (("stretch",), (len(model["sensors"]),)), EXCITATION: (("displacement",), ()),
+               NODES: (("positions",), (len(model["nodes"]), 2))}
+    stretch, displacement, positions = (_signal(messages[topic], stamps, *signals[topic], topic, path)
+                                        if topic in messages else None for topic in (STRETCH, EXCITATION, NODES))
     if truncated:
         warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
                       stacklevel=2)
-    return Recording(
-        path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames,
-        stretch=np.array([m["stretch"] for m in _json(messages[STRETCH], stamps)], np.float64),
-        displacement=np.array([m["displacement"] for m in _json(messages[EXCITATION], stamps)], np.float64),
-        positions=np.array([m["positions"] for m in _json(messages[NODES], stamps)], np.float64) if nodes else None,
-        complete=complete, truncated=truncated)
+    return Recording(path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames, stretch=stretch,
+                     displacement=displacement, positions=positions if nodes else None, complete=complete,
+                     truncated=truncated)
 
 
 def read_model(path: Union[str, Path]) -> dict[str, Any]:
@@ -188,16 +190,26 @@ def _model(record: Metadata, path: Path) -> dict[str, Any]:
         raise RecordingError(f"{path} is written in {fmt}, newer than this softarm reads ({FORMAT}): upgrade softarm")
     try:
         model = orjson.loads(record.metadata["model"])
-    except (KeyError, orjson.JSONDecodeError):
+    except (KeyError, TypeError, orjson.JSONDecodeError):
         raise RecordingError(f"{path}: the '{META_MODEL}' metadata has no readable model document") from None
+    check_model(model, path)
     if int(version) == 1:  # /1 predates the excitation kinds: its drive is the paper's, sideways
         model["excitation"] = {"kind": "product_of_sines", "direction": [1.0, 0.0], **model.get("excitation", {})}
     return model
 
 
-def _json(messages: dict[int, bytes], stamps: list[int]) -> list[Any]:
-    """Decode many JSON messages in one call (one array document): much cheaper than one call each."""
-    return orjson.loads(b"[" + b",".join(messages[s] for s in stamps) + b"]")
+def _signal(messages: dict[int, bytes], stamps: list[int], keys: tuple[str, ...], shape: tuple[int, ...], topic: str,
+            path: Path) -> np.ndarray:
+    """(T, *shape) float64: the field `keys[0]` of every frame's JSON message, decoded in one call (one array
+    document: much cheaper than one call each); a message that does not decode to it is refused."""
+    try:
+        decoded = orjson.loads(b"[" + b",".join(messages[s] for s in stamps) + b"]")
+        values = np.array([m[keys[0]] for m in decoded], np.float64)
+    except (orjson.JSONDecodeError, KeyError, TypeError, ValueError, IndexError):
+        values = None
+    if values is None or values.shape != (len(stamps), *shape):
+        raise RecordingError(f"{path}: its {topic} messages do not hold {keys[0]} of shape {shape} for every frame")
+    return values
 
 
 def _image(data: bytes, path: Path, height: int, width: int) -> np.ndarray:
@@ -209,4 +221,6 @@ def _image(data: bytes, path: Path, height: int, width: int) -> np.ndarray:
     if msg.encoding != "mono8" or (msg.height, msg.width) != (height, width):
         raise RecordingError(f"{path}: images are {msg.encoding} {msg.height}x{msg.width}, but the model says "
                              f"mono8 {height}x{width}")
+    if msg.step < msg.width or len(msg.data) != msg.height * msg.step:
+        raise RecordingError(f"{path}: an image holds {len(msg.data)} bytes, not {msg.height} rows of {msg.step}")
     return np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.step)[:, :msg.width]

@@ -7,6 +7,7 @@ chunk records through mcap's own parsers; index, statistics and summary records 
 as a reader that does not need them may.
 """
 
+import os
 import struct
 from io import BytesIO
 from typing import BinaryIO, Iterator, Union
@@ -17,6 +18,7 @@ from mcap.records import Channel, Chunk, Message, Metadata, Schema
 from mcap.stream_reader import get_chunk_data_stream
 
 RECORD = struct.Struct("<BQ")     # opcode, content length
+MAX_CHUNK = 1 << 28               # bytes a chunk may unpack to: softarm writes ~1 MB, a damaged header claims more
 MESSAGE = struct.Struct("<HIQQ")  # channel id, sequence, log time, publish time
 PARSED = {Opcode.CHANNEL: Channel, Opcode.SCHEMA: Schema, Opcode.METADATA: Metadata, Opcode.CHUNK: Chunk}
 
@@ -25,13 +27,17 @@ Record = Union[Message, Channel, Schema, Metadata]
 
 def file_records(f: BinaryIO, magic: bytes) -> Iterator[Record]:
     """Records after the opening magic up to the footer; raises struct.error (or mcap's errors) where the
-    bytes stop making sense, a file cut short before its closing magic included."""
+    bytes stop making sense, a file cut short before its closing magic included. No record is read past the
+    end of the file, so a damaged length costs no memory."""
+    size = os.fstat(f.fileno()).st_size
     f.seek(len(magic))
     while True:
         head = f.read(RECORD.size)
         if len(head) < RECORD.size:
             raise struct.error("the file ends before its footer")
         opcode, length = RECORD.unpack(head)
+        if length > size - f.tell():
+            raise struct.error(f"a record claims {length} bytes, more than the file holds after it")
         if opcode == Opcode.FOOTER:
             if len(f.read(length)) < length or f.read(len(magic)) != magic:
                 raise struct.error("the file ends inside its footer or closing magic")
@@ -50,6 +56,8 @@ def file_records(f: BinaryIO, magic: bytes) -> Iterator[Record]:
 
 def chunk_records(chunk: Chunk) -> Iterator[Record]:
     """The chunk's records in order, once its CRC is checked."""
+    if chunk.uncompressed_size > MAX_CHUNK:
+        raise struct.error(f"a chunk claims to unpack to {chunk.uncompressed_size} bytes")
     stream, length = get_chunk_data_stream(chunk, validate_crc=True)  # zstd, lz4 or none, as mcap reads them
     data = stream.read(length)
     offset = 0

@@ -1,7 +1,8 @@
 """Many runs into one folder, one config after another, with a manifest written only when all finished.
 
 The suite and the corpora are built this way: a folder with a manifest is whole; Ctrl-C or SIGTERM
-stops the current run cleanly, and no manifest claims the folder.
+stops the current run cleanly, and no manifest claims the folder. The folder is held by one run at a
+time (its manifest's lock), and the manifest of an earlier run is removed before any new file is made.
 """
 
 from pathlib import Path
@@ -14,13 +15,19 @@ from softarm.interrupt import stop_on_signal
 
 
 def fresh_manifest(folder: Path, name: str, what: str, force: bool) -> Path:
-    """The manifest's path, refused if the folder already holds one (unless force, which removes it first)."""
+    """The manifest's path, refused if the folder already holds one (unless force)."""
     manifest = Path(folder) / name
     if manifest.exists() and not force:
         raise OutputError(f"{folder} already holds {what} ({manifest}); pass --force to write it again")
     check_outputs([manifest], force=True)
-    manifest.unlink(missing_ok=True)
     return manifest
+
+
+def planned_paths(folder: Path, runs: Sequence[tuple[str, Config]]) -> list[Path]:
+    """Every file `simulate_groups` writes for these runs."""
+    from softarm.sim.run import output_paths
+
+    return [p for stem, config in runs for p in output_paths(config, Path(folder) / f"{stem}.mcap")]
 
 
 def simulate_groups(folder: Path, runs: Sequence[tuple[str, Config]], arch: str,

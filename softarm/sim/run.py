@@ -3,7 +3,7 @@
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, Optional, Union
+from typing import TYPE_CHECKING, Callable, Optional, Sequence, Union
 
 import numpy as np
 
@@ -11,8 +11,8 @@ from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.sensors import stretch
 from softarm.config import Config
 from softarm.errors import RecordingError, SimulationError
-from softarm.files import check_outputs
-from softarm.interrupt import stop_on_signal
+from softarm.files import check_outputs, claimed, made_folders
+from softarm.interrupt import Escalated, stop_on_signal
 from softarm.record.kept import describe_kept
 from softarm.record.process import RecorderProcess, WriterFailed
 from softarm.record.slots import BlockShape
@@ -71,25 +71,33 @@ def output_paths(config: Config, out: Union[str, Path, None] = None) -> list[Pat
 
 
 def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = False, arch: str = "cpu",
-             progress: Optional[Callable[[int], None]] = None) -> SimResult:
+             progress: Optional[Callable[[int], None]] = None, inputs: Sequence[Union[str, Path]] = ()) -> SimResult:
     """Run config.run.arms arms for config.run.duration seconds and record each to its MCAP file.
 
     `progress(frames_done)` is called after every block. Ctrl-C stops at the next block boundary and
     closes every file with complete = "false". A blow-up removes every file of the run; any other failure
     keeps every frame that reached the disk and says where. Taichi starts on `arch` at the first call
-    (cpu | gpu | auto).
+    (cpu | gpu | auto). `inputs` (the config file, say) are files no output may replace; another run
+    writing one of the outputs is refused.
     """
-    from softarm.sim.physics import Simulator  # Taichi loads here, not when softarm is imported
-    from softarm.sim.raster import Rasteriser
-    from softarm.sim.runtime import init_taichi
-
     start = time.perf_counter()
-    laps = Laps()
     check_arch(arch)
     check_resources(config, DEFAULT_FOLDER if out is None else Path(out).parent)  # before any array is made
     batch = arm_batch(config)  # config errors first: a refused run creates no folder
     paths = output_paths(config, out)
-    check_outputs(paths, force)
+    check_outputs(paths, force, inputs)
+    with stop_on_signal(), made_folders(paths), claimed(paths):  # a request from now on ends the run cleanly
+        return record_batch(config, batch, paths, arch, progress, start)
+
+
+def record_batch(config: Config, batch: ArmBatch, paths: list[Path], arch: str,
+                 progress: Optional[Callable[[int], None]], start: float) -> SimResult:
+    """Simulate and record a batch whose outputs are checked and held."""
+    from softarm.sim.physics import Simulator  # Taichi loads here, not when softarm is imported
+    from softarm.sim.raster import Rasteriser
+    from softarm.sim.runtime import init_taichi
+
+    laps = Laps()
     block_frames = block_frames_for(config)
     # The writers fork before Taichi starts its threads: a child never inherits a lock held by one of them.
     recorder = start_recorder(config, batch, paths, block_frames)
@@ -109,6 +117,9 @@ def simulate(config: Config, out: Union[str, Path, None] = None, force: bool = F
     except WriterFailed as failure:  # everything that reached the disk stays, and the message says where
         recorder.keep()
         raise WriterFailed(f"recording stopped: {failure}; {describe_kept(paths)}") from None
+    except Escalated:  # a second stop request: now, with what is on disk
+        recorder.abandon()
+        raise Escalated(f"stopped at once by a second stop request; {describe_kept(paths)}") from None
     except Exception as error:  # anything else cut the run short: keep the frames, say where they are
         recorder.keep()
         raise RecordingError(f"recording stopped by {type(error).__name__}: {error}; {describe_kept(paths)}") from error

@@ -58,7 +58,7 @@ def read_study(path: Union[str, Path]) -> Study:
         document = tomllib.loads(path.read_text())
     except OSError as e:
         raise ConfigError(f"study file {path} cannot be read: {e.strerror}") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+    except ValueError as e:  # TOMLDecodeError, UnicodeDecodeError, or an integer too long to read
         raise ConfigError(f"study file {path} is not valid TOML: {e}") from None
     return study_from_dict(document, str(path))
 

@@ -11,8 +11,8 @@ import shutil
 from pathlib import Path
 from typing import Callable, Optional
 
-from softarm.corpus.build import MANIFEST as CORPUS_MANIFEST
 from softarm.corpus.build import write_corpus
+from softarm.corpus.manifest import MANIFEST as CORPUS_MANIFEST
 from softarm.corpus.presets import PRESETS, arms_per_group
 from softarm.errors import OutputError, RecordingError
 from softarm.files import write_json

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, Iterator, Optional, Union
 
 from softarm.errors import ConfigError, OutputError, SoftarmError
-from softarm.files import check_outputs
+from softarm.files import check_outputs, claimed, made_folders
 from softarm.interrupt import stop_on_signal
 from softarm.study.builtin import load_study
 from softarm.study.ledger import LEDGER, TrialRecord, append_record, latest, read_records, trial_key
@@ -57,7 +57,16 @@ def run_study(study: Union[PathLike, Study], out: PathLike, scale: Scale = FULL,
     for trial in planned:
         check_overrides({**scale.train, **trial.overrides}, f"study {plan.name}, trial {trial.name}")
     folder = Path(out).resolve()
-    check_folder(folder, plan, scale, force)
+    check_folder(folder, plan, scale, force, inputs=[] if isinstance(study, Study) else [Path(study)])
+    with made_folders([folder / LEDGER]), claimed([folder / LEDGER]):
+        if force:
+            (folder / LEDGER).unlink(missing_ok=True)
+        return run_planned(plan, planned, folder, scale, address, force, progress)
+
+
+def run_planned(plan: Study, planned: list, folder: Path, scale: Scale, address: Optional[str], force: bool,
+                progress: Optional[StageProgress]) -> StudyResult:
+    """The trials of a checked plan in a held folder: the shared data first, then every trial not yet recorded."""
     keys = {t.name: trial_key(t, scale) for t in planned}
     recorded = latest(read_records(folder))
     rows = {t.name: recorded.get((t.name, keys[t.name])) or TrialRecord(plan.name, t.name, keys[t.name], t.group,
@@ -88,19 +97,22 @@ def run_study(study: Union[PathLike, Study], out: PathLike, scale: Scale = FULL,
     return StudyResult(plan, list(rows.values()), ran, not interrupted, *paths)
 
 
-def check_folder(folder: Path, plan: Study, scale: Scale, force: bool) -> None:
-    """Refuse a folder that holds another study, or this one at another scale, unless `force`, which also
-    forgets the trials recorded there."""
+def check_folder(folder: Path, plan: Study, scale: Scale, force: bool, inputs: list[Path]) -> None:
+    """Refuse a folder that holds another study, or this one at another scale, unless `force` (which then
+    forgets the trials recorded there), and outputs that would replace an input (the study's file)."""
     paths = output_paths(folder, plan)
-    check_outputs([*paths, folder / LEDGER], force=True)  # folders and permissions
+    check_outputs([*paths, folder / LEDGER], force=True, inputs=inputs)  # folders, permissions, inputs
     json_path = paths[0]
     if json_path.exists() and not force:
-        held = json.loads(json_path.read_text())
-        if (held.get("study"), held.get("scale")) != (plan.name, scale.name):
-            raise OutputError(f"{folder} holds the {held.get('scale')} study {held.get('study')!r}; give another "
+        try:
+            held = json.loads(json_path.read_text())
+            study, held_scale = held.get("study"), held.get("scale")
+        except (OSError, ValueError, AttributeError):
+            raise OutputError(f"{json_path} is not a study's results: give another --out, or pass --force to run "
+                              f"the study there afresh") from None
+        if (study, held_scale) != (plan.name, scale.name):
+            raise OutputError(f"{folder} holds the {held_scale} study {study!r}; give another "
                               f"--out, or pass --force to run the {scale.name} study {plan.name!r} there afresh")
-    if force:
-        (folder / LEDGER).unlink(missing_ok=True)
 
 
 def run_jobs(jobs: list[TrialJob], address: Optional[str]) -> Iterator[TrialRecord]:

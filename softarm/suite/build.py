@@ -11,7 +11,7 @@ from typing import Callable, Optional, Union
 
 from softarm.config import load_config
 from softarm.errors import SoftarmError
-from softarm.files import write_json
+from softarm.files import claimed, made_folders, write_json
 from softarm.sim.groups import fresh_manifest, simulate_groups
 from softarm.suite.families import (
     CANDIDATES,
@@ -46,10 +46,12 @@ def write_suite(folder: Union[str, Path], force: bool = False, arch: str = "cpu"
             "overrides": level.overrides, "sensing": level.sensing,
             "seeds": [seed + paths.index(p) for p in kept], "recordings": [p.name for p in kept]}
 
-    if not simulate_groups(Path(folder), runs, arch, keep, progress):
-        return None
-    return write_json(manifest, {"suite": SUITE_VERSION, "seed_base": SUITE_SEED_BASE, "duration": DURATION,
-                                 "families": entries})
+    with made_folders([manifest]), claimed([manifest]):
+        manifest.unlink(missing_ok=True)  # an interrupted rewrite must not leave the old manifest claiming the folder
+        if not simulate_groups(Path(folder), runs, arch, keep, progress):
+            return None
+        return write_json(manifest, {"suite": SUITE_VERSION, "seed_base": SUITE_SEED_BASE, "duration": DURATION,
+                                     "families": entries})
 
 
 def keep_in_view(paths: list[Path], count: int, what: str) -> list[Path]:

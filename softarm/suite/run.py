@@ -3,8 +3,9 @@
 from pathlib import Path
 from typing import Any, Optional, Union
 
-from softarm.files import check_outputs, write_json
+from softarm.files import check_outputs, claimed, made_folders, write_json
 from softarm.suite.evaluate import Progress, evaluate_suite
+from softarm.suite.manifest import MANIFEST, read_suite
 
 PathLike = Union[str, Path]
 
@@ -14,12 +15,15 @@ def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike
              progress: Optional[Progress] = None) -> dict[str, Any]:
     """Score `checkpoint` on every family of the suite in `suite` (see softarm.suite.evaluate); write the
     document as JSON and the bars as PNG where asked. Outputs are checked before any work."""
-    check_outputs([Path(p) for p in (json_path, png) if p is not None], force)
-    evaluation = evaluate_suite(checkpoint, suite, sensor_noise=sensor_noise, progress=progress)
-    if json_path is not None:
-        write_json(json_path, evaluation)
-    if png is not None:
-        from softarm.view.suite_plot import save_suite_png
+    outputs = [Path(p) for p in (json_path, png) if p is not None]
+    cases = read_suite(suite).cases  # a missing or damaged suite is refused before any work
+    check_outputs(outputs, force, inputs=[checkpoint, Path(suite) / MANIFEST, *(case.path for case in cases)])
+    with made_folders(outputs), claimed(outputs):
+        evaluation = evaluate_suite(checkpoint, suite, sensor_noise=sensor_noise, progress=progress)
+        if json_path is not None:
+            write_json(json_path, evaluation)
+        if png is not None:
+            from softarm.view.suite_plot import save_suite_png
 
-        save_suite_png(evaluation, png)
+            save_suite_png(evaluation, png)
     return evaluation
