@@ -10,8 +10,11 @@ from typing import Optional, Sequence
 import numpy as np
 
 from softarm.arm.body import Body, build_body
+from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive, drive_for_seed
+from softarm.arm.places import Places
 from softarm.arm.statics import check_step, hanging_equilibrium, initial_state
+from softarm.arm.world import check_world, resolve
 from softarm.config import Config
 
 
@@ -22,6 +25,7 @@ class ArmBatch:
     drives: list[Drive]
     positions: np.ndarray   # (arms, N, 2) at t = 0, m
     velocities: np.ndarray  # (arms, N, 2) at t = 0, m/s
+    disturbances: list[list[Disturbance]]  # each arm's, in the order its recording lists them
 
     @property
     def arms(self) -> int:
@@ -29,12 +33,16 @@ class ArmBatch:
 
 
 def arm_batch(config: Config, seeds: Optional[Sequence[int]] = None) -> ArmBatch:
-    """The run's arms (seeds run.seed .. run.seed + arms - 1 unless given), with the step checked for stability."""
+    """The run's arms (seeds run.seed .. run.seed + arms - 1 unless given), their disturbances checked and drawn,
+    the step checked for stability with every one of them."""
     body = build_body(config)
-    check_step(config, body)
     seeds = list(seeds) if seeds is not None else [config.run.seed + i for i in range(config.run.arms)]
     drives = [drive_for_seed(config.excitation, s) for s in seeds]
     hanging = hanging_equilibrium(body)
+    places = Places(body, config.body.columns, hanging, config.world)
+    check_world(config, places)
+    disturbances = [resolve(config, places, s) for s in seeds]
+    check_step(config, body, [d for arm in disturbances for d in arm])
     starts = [initial_state(hanging, d) for d in drives]
     return ArmBatch(body=body, seeds=seeds, drives=drives, positions=np.stack([p for p, _ in starts]),
-                    velocities=np.stack([v for _, v in starts]))
+                    velocities=np.stack([v for _, v in starts]), disturbances=disturbances)

@@ -5,27 +5,30 @@ written out again here from the equations of docs/model.md, not taken from `stat
 implementation shows up as a disagreement with the other. One arm, readable over fast.
 """
 
+from typing import Sequence
+
 import numpy as np
 
 from softarm.arm.body import Body
+from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive
 
 
 def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velocities: np.ndarray,
-                       frame_dt: float, substeps: int, n_frames: int) -> np.ndarray:
+                       frame_dt: float, substeps: int, n_frames: int,
+                       disturbances: Sequence[Disturbance] = ()) -> np.ndarray:
     """(n_frames, N, 2) positions at t_k = k * frame_dt, k = 0..n_frames-1; frame 0 is the given state.
 
-    Semi-implicit (symplectic) Euler with `substeps` steps per frame: forces at the current state,
-    then v += h F / m on the free nodes, then x += h v with the new v; after each step the driven
-    nodes are put at rest + f(t) e with velocity f'(t) e (e: the drive's direction).
+    Semi-implicit (symplectic) Euler with `substeps` steps per frame: forces at the current state (and the
+    disturbances active at the step's run time), then v += h F / m on the free nodes (m with the active
+    payloads), then x += h v with the new v; after each step the driven nodes are put at rest + f(t) e with
+    velocity f'(t) e (e: the drive's direction).
     """
     x = np.array(positions, dtype=np.float64)
     v = np.array(velocities, dtype=np.float64)
     i, j = body.springs[:, 0], body.springs[:, 1]
     free = np.ones(len(x), bool)
     free[body.driven] = False
-    inverse_mass = 1.0 / body.masses[free][:, None]
-    weight = body.masses[:, None] * body.gravity[None, :]
     h = frame_dt / substeps
 
     out = np.empty((n_frames,) + x.shape)
@@ -34,8 +37,15 @@ def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velociti
         if k == n_frames - 1:
             break
         for s in range(substeps):
-            force = _spring_damper_forces(x, v, i, j, body.rest_lengths, body.stiffness, body.damping) + weight
-            v[free] += h * force[free] * inverse_mass
+            now = ((k * substeps + s) / substeps) * frame_dt
+            active = [d for d in disturbances if d.active(now)]
+            mass = body.masses + sum((d.extra_mass(len(x)) for d in active), np.zeros(len(x)))
+            stiffness = body.stiffness * np.prod([d.stiffness_factor(len(i)) for d in active] or [np.ones(len(i))], axis=0)
+            force = (_spring_damper_forces(x, v, i, j, body.rest_lengths, stiffness, body.damping)
+                     + mass[:, None] * body.gravity[None, :])
+            for d in active:
+                force += d.forces(x, v) * free[:, None]
+            v[free] += h * force[free] / mass[free][:, None]
             x[free] += h * v[free]
             t_next = ((k * substeps + s + 1) / substeps) * frame_dt
             x[body.driven] = body.rest[body.driven] + drive.along(float(drive.displacement(t_next)))

@@ -4,9 +4,12 @@ Everything here is float64 NumPy, computed once per run before any stepping (doc
 state; Stability and blow-up).
 """
 
+from typing import Sequence
+
 import numpy as np
 
 from softarm.arm.body import Body
+from softarm.arm.disturbances import Disturbance, Obstacle
 from softarm.arm.drive import Drive
 from softarm.config import Config
 from softarm.errors import ConfigError
@@ -64,21 +67,27 @@ def _stiffness_matrix(body: Body, x: np.ndarray) -> np.ndarray:
     return K
 
 
-def max_stable_substep(body: Body) -> float:
+def max_stable_substep(body: Body, disturbances: Sequence[Disturbance] = ()) -> float:
     """Largest symplectic-Euler step that is stable for every mode, by a Gershgorin bound.
 
     A mode x'' = -w^2 x - g x' stepped by semi-implicit Euler with step h is stable when
     h^2 w^2 + 2 g h < 4. Gershgorin bounds w^2 by max_i 2 sum(k)/m_i and g by max_i 2 sum(b)/m_i
-    over the springs touching each free node; the bound is safe, not tight.
+    over the springs touching each free node; the bound is safe, not tight. With disturbances it holds
+    for the stiffest moment: every stiffening at once (softening and payloads only make the step safer)
+    and every obstacle's contact on every node (stiffness k_c and damping b_c on its own, as a spring to
+    a fixed point).
     """
     free = body.free
+    stiffness = body.stiffness * np.prod([np.maximum(1.0, d.stiffness_factor(len(body.springs))) for d in disturbances]
+                                         or [np.ones(len(body.springs))], axis=0)
     k_sum = np.zeros(body.n_nodes)
     b_sum = np.zeros(body.n_nodes)
     for col in (0, 1):
-        np.add.at(k_sum, body.springs[:, col], body.stiffness)
+        np.add.at(k_sum, body.springs[:, col], stiffness)
         np.add.at(b_sum, body.springs[:, col], body.damping)
-    w2 = np.max(2 * k_sum[free] / body.masses[free])
-    g = np.max(2 * b_sum[free] / body.masses[free])
+    contacts = [d for d in disturbances if isinstance(d, Obstacle)]
+    w2 = np.max((2 * k_sum[free] + sum(2 * d.stiffness for d in contacts)) / body.masses[free])
+    g = np.max((2 * b_sum[free] + sum(2 * d.damping for d in contacts)) / body.masses[free])
     return float((-2 * g + np.sqrt(4 * g * g + 16 * w2)) / (2 * w2))
 
 
@@ -95,14 +104,15 @@ def initial_state(hanging: np.ndarray, drive: Drive) -> tuple[np.ndarray, np.nda
     return positions, velocities
 
 
-def check_step(config: Config, body: Body) -> None:
-    """Refuse a substep above the stability limit of semi-implicit Euler, naming the substeps that work."""
-    h_max = max_stable_substep(body)
+def check_step(config: Config, body: Body, disturbances: Sequence[Disturbance] = ()) -> None:
+    """Refuse a substep above the stability limit of semi-implicit Euler (with every disturbance of the run),
+    naming the substeps that work."""
+    h_max = max_stable_substep(body, disturbances)
     dt = config.integration.frame_dt
     substeps = config.integration.substeps
     if dt / substeps > h_max:
         needed = int(np.ceil(dt / h_max))
         raise ConfigError(
             f"config key 'integration.substeps' = {substeps} is unstable: a step of {1e3 * dt / substeps:.3g} ms "
-            f"exceeds the stability limit {1e3 * h_max:.3g} ms of these springs and masses; "
+            f"exceeds the stability limit {1e3 * h_max:.3g} ms of these springs, masses and disturbances; "
             f"use integration.substeps >= {needed} (or --substeps {needed})")

@@ -107,6 +107,8 @@ def _build(cls: type, data: Any, prefix: str) -> Any:
 def _coerce(value: Any, hint: Any, key: str) -> Any:
     """Check `value` against a type hint (int, float, str, tuples, Optional) and convert lists to tuples."""
     origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if dataclasses.is_dataclass(hint):
+        return _build(hint, value, f"{key}.")
     if origin is Union:
         return _coerce(value, next(a for a in args if a is not type(None)), key)
     if origin is tuple:

@@ -91,6 +91,47 @@ class RunConfig:
 
 
 @dataclass(frozen=True)
+class DisturbanceConfig:
+    """One [[disturbances]] table: a kind, its interval and the parameters of its kind (docs/model.md)."""
+    kind: str
+    start: float
+    end: Union[float, None] = None
+    force: Union[tuple[float, float], None] = None
+    nodes: Union[tuple[int, ...], None] = None
+    mass: Union[float, None] = None
+    factor: Union[float, None] = None
+    springs: Union[tuple[int, ...], None] = None
+    centre: Union[tuple[float, float], None] = None
+    radius: Union[float, None] = None
+    stiffness: Union[float, None] = None
+    damping: Union[float, None] = None
+
+
+@dataclass(frozen=True)
+class RandomDisturbanceConfig:
+    """One [[world.random]] table: how every arm draws disturbances of one kind from its seed."""
+    kind: str
+    share: float
+    count: tuple[int, int]
+    start: tuple[float, float]
+    rows: tuple[int, int]
+    duration: Union[tuple[float, float], None] = None
+    force: Union[tuple[float, float], None] = None
+    mass: Union[tuple[float, float], None] = None
+    factor: Union[tuple[float, float], None] = None
+    span: Union[int, None] = None
+    radius: Union[tuple[float, float], None] = None
+    gap: Union[tuple[float, float], None] = None
+
+
+@dataclass(frozen=True)
+class WorldConfig:
+    contact_stiffness: float
+    contact_damping: float
+    random: tuple[RandomDisturbanceConfig, ...]
+
+
+@dataclass(frozen=True)
 class TrainConfig:
     train_fraction: float
     test_fraction: float
@@ -122,6 +163,7 @@ class TrainConfig:
 
 @dataclass(frozen=True)
 class Config:
+    disturbances: tuple[DisturbanceConfig, ...]
     body: BodyConfig
     springs: SpringsConfig
     excitation: ExcitationConfig
@@ -130,6 +172,7 @@ class Config:
     camera: CameraConfig
     integration: IntegrationConfig
     run: RunConfig
+    world: WorldConfig
     train: TrainConfig
 
     @property

@@ -30,6 +30,8 @@ def check_model(model: Any, path: Path) -> dict[str, Any]:
     require(_indices(model.get("outline"), len(nodes), None), "outline")
     require(_int(model.get("seed", 0)) and model.get("seed", 0) >= 0, "seed")
     require(isinstance(model.get("excitation", {}), dict), "excitation")
+    disturbances = model.get("disturbances", [])
+    require(isinstance(disturbances, list) and all(isinstance(d, dict) for d in disturbances), "disturbances")
     return model
 
 

@@ -1,8 +1,11 @@
-"""The softarm-recording/2 format (docs/recording.md): topics, schemas and metadata names, shared by writer and reader."""
+"""The softarm-recording/3 format (docs/recording.md): topics, schemas and metadata names, shared by writer and reader.
+
+/3 adds the disturbances to /2: their list in the model metadata and `/arm/disturbance` on every frame.
+"""
 
 import orjson
 
-FORMAT = "softarm-recording/2"
+FORMAT = "softarm-recording/3"
 FORMAT_NAME, FORMAT_VERSION = FORMAT.split("/")
 FORMAT_VERSION_NUMBER = int(FORMAT_VERSION)
 
@@ -13,7 +16,8 @@ IMAGE = "/camera/image"
 STRETCH = "/arm/stretch"
 NODES = "/arm/nodes"
 EXCITATION = "/arm/excitation"
-TOPICS = (IMAGE, STRETCH, NODES, EXCITATION)
+DISTURBANCE = "/arm/disturbance"
+TOPICS = (IMAGE, STRETCH, NODES, EXCITATION)  # in every version; /3 adds DISTURBANCE
 
 POSITION_DECIMALS = 9  # node positions are written to the nanometre
 
@@ -42,4 +46,8 @@ JSON_SCHEMAS = {
     EXCITATION: ("softarm.Excitation", json_schema(
         "softarm.Excitation", "Displacement of the driven nodes along the drive direction, f(t + t0)",
         {"displacement": {"type": "number", "description": "m, along the excitation direction of the metadata"}})),
+    DISTURBANCE: ("softarm.Disturbance", json_schema(
+        "softarm.Disturbance", "The disturbances acting at this frame (start <= t < end)",
+        {"active": {"type": "array", "items": {"type": "integer", "minimum": 0},
+                    "description": "indices into the model metadata's disturbances"}})),
 }

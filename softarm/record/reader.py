@@ -19,6 +19,7 @@ from mcap.records import Channel, Message, Metadata
 from softarm.errors import RecordingError
 from softarm.record.document import check_model
 from softarm.record.format import (
+    DISTURBANCE,
     EXCITATION,
     FORMAT,
     FORMAT_NAME,
@@ -50,6 +51,7 @@ class Recording:
     positions: Optional[np.ndarray]  # (T, N, 2) m, None when read with nodes=False
     complete: bool               # the run ended normally (not interrupted, not truncated)
     truncated: bool              # the file was cut short and recovered
+    active: np.ndarray           # (T, D) bool: disturbance d of the model's list acts at frame k (D = 0 before /3)
 
     @property
     def frame_dt(self) -> float:
@@ -69,7 +71,7 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
     """Load every complete frame of a recording. nodes=False skips the node positions (the largest part)."""
     path = Path(path)
     model, run, messages, truncated = _scan(path, nodes)
-    stamps = sorted(set.intersection(*(set(messages[t]) for t in _topics(nodes))))
+    stamps = sorted(set.intersection(*(set(messages[t]) for t in _topics(nodes, model))))
     if not stamps:
         raise RecordingError(f"{path} holds no complete frame")
     height, width = model["camera"]["height"], model["camera"]["width"]
@@ -84,7 +86,7 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
                       stacklevel=2)
     return Recording(path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames, stretch=stretch,
                      displacement=displacement, positions=positions if nodes else None, complete=complete,
-                     truncated=truncated)
+                     truncated=truncated, active=_active(messages.get(DISTURBANCE, {}), stamps, model, path))
 
 
 def read_model(path: Union[str, Path]) -> dict[str, Any]:
@@ -114,12 +116,14 @@ def count_frames(path: Union[str, Path]) -> int:
     return len(set.intersection(*stamps.values()))
 
 
-def _topics(nodes: bool) -> tuple[str, ...]:
-    return TOPICS if nodes else tuple(t for t in TOPICS if t != NODES)
+def _topics(nodes: bool, model: Optional[dict[str, Any]] = None) -> tuple[str, ...]:
+    """The topics every frame has: /3 adds the disturbance channel (its model lists `disturbances`)."""
+    topics = TOPICS if nodes else tuple(t for t in TOPICS if t != NODES)
+    return (*topics, DISTURBANCE) if model is not None and "disturbances" in model else topics
 
 
 def _scan(path: Path, nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, str]], dict[str, dict[int, bytes]], bool]:
-    wanted = _topics(nodes)
+    wanted = (*_topics(nodes), DISTURBANCE)
     model = run = None
     channels: dict[int, str] = {}
     messages: dict[str, dict[int, bytes]] = {t: {} for t in wanted}
@@ -143,7 +147,7 @@ def _scan(path: Path, nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, s
         raise RecordingError(f"{path} is cut short before its metadata: no frame can be recovered")
     if model is None:
         raise RecordingError(f"{path} is an MCAP file but not a softarm recording (no '{META_MODEL}' metadata)")
-    missing = [t for t in wanted if not messages[t]]
+    missing = [t for t in _topics(nodes, model) if not messages[t]]
     if missing and not truncated:
         raise RecordingError(f"{path} has no messages on {', '.join(missing)}")
     return model, run, messages, truncated
@@ -196,6 +200,21 @@ def _model(record: Metadata, path: Path) -> dict[str, Any]:
     if int(version) == 1:  # /1 predates the excitation kinds: its drive is the paper's, sideways
         model["excitation"] = {"kind": "product_of_sines", "direction": [1.0, 0.0], **model.get("excitation", {})}
     return model
+
+
+def _active(messages: dict[int, bytes], stamps: list[int], model: dict[str, Any], path: Path) -> np.ndarray:
+    """(T, D) bool of the disturbance channel: which of the model's D disturbances act at each frame."""
+    count = len(model.get("disturbances", []))
+    out = np.zeros((len(stamps), count), bool)
+    if not messages:
+        return out
+    try:
+        lists = [m["active"] for m in orjson.loads(b"[" + b",".join(messages[s] for s in stamps) + b"]")]
+        for k, indices in enumerate(lists):
+            out[k, indices] = True
+    except (orjson.JSONDecodeError, KeyError, TypeError, ValueError, IndexError):
+        raise RecordingError(f"{path}: its {DISTURBANCE} messages do not list indices of its disturbances") from None
+    return out
 
 
 def _signal(messages: dict[int, bytes], stamps: list[int], keys: tuple[str, ...], shape: tuple[int, ...], topic: str,

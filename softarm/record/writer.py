@@ -1,4 +1,4 @@
-"""Writes one arm's run as a softarm-recording/2 MCAP file (docs/recording.md).
+"""Writes one arm's run as a softarm-recording/3 MCAP file (docs/recording.md).
 
 The file grows as `<name>.mcap.part` and is renamed when it is closed, so a path without `.part`
 is always a whole file: closed normally (`complete = "true"`), or cut off with every frame recorded so
@@ -6,7 +6,7 @@ far (`complete = "false"`). A blown-up run discards its `.part`; a failed write 
 """
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 import orjson
@@ -14,9 +14,11 @@ import orjson
 from softarm import __version__
 from softarm.arm.body import Body
 from softarm.arm.camera import world_to_pixel
+from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive
 from softarm.config import Config
 from softarm.record.format import (
+    DISTURBANCE,
     EXCITATION,
     FORMAT,
     IMAGE,
@@ -30,8 +32,8 @@ from softarm.record.format import (
 from softarm.record.mcap_file import McapFile
 
 
-def model_metadata(config: Config, body: Body, drive: Drive, seed: int,
-                   positions: np.ndarray, velocities: np.ndarray) -> dict[str, Any]:
+def model_metadata(config: Config, body: Body, drive: Drive, seed: int, positions: np.ndarray, velocities: np.ndarray,
+                   disturbances: Sequence[Disturbance] = ()) -> dict[str, Any]:
     """Everything another program needs to re-simulate this arm without softarm (docs/model.md, docs/recording.md)."""
     return {
         "nodes": body.rest.tolist(),
@@ -52,6 +54,7 @@ def model_metadata(config: Config, body: Body, drive: Drive, seed: int,
         "integrator": config.integration.integrator,
         "initial": {"positions": positions.tolist(), "velocities": velocities.tolist()},
         "seed": seed,
+        "disturbances": [d.metadata() for d in disturbances],
         "softarm_version": __version__,
         "config": config.to_dict(),
     }
@@ -67,6 +70,7 @@ class RecordingWriter:
         self.broken = False
         self._mcap = McapFile(self.path, (IMAGE,), JSON_SCHEMAS)
         self._mcap.writer.add_metadata(META_MODEL, {"format": FORMAT, "model": orjson.dumps(model).decode()})
+        self._windows = [(d["start"], np.inf if d["end"] is None else d["end"]) for d in model.get("disturbances", [])]
 
     def write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray) -> None:
         """Append a block of frames: images (B, H, W) of 0/1, stretch (B, P), positions (B, N, 2), displacement (B,).
@@ -89,8 +93,18 @@ class RecordingWriter:
             IMAGE: self._mcap.images(np.multiply(images, 255, dtype=np.uint8), stamps),
             STRETCH: [dumps({"t": t, "stretch": s}, option=numpy) for t, s in zip(seconds, stretch)],
             NODES: [dumps({"t": t, "positions": p}, option=numpy) for t, p in zip(seconds, positions)],
-            EXCITATION: [dumps({"t": t, "displacement": float(d)}) for t, d in zip(seconds, displacement)]})
+            EXCITATION: [dumps({"t": t, "displacement": float(d)}) for t, d in zip(seconds, displacement)],
+            DISTURBANCE: [dumps({"t": t, "active": active}) for t, active in zip(seconds, self._active(n))]})
         self.frames += n
+
+    def _active(self, n: int) -> list[list[int]]:
+        """The disturbances active at each of the next n frames: start <= k frame_dt < end."""
+        times = np.arange(self.frames, self.frames + n) * self.frame_dt
+        if not self._windows:
+            return [[] for _ in range(n)]
+        start, end = np.array(self._windows).T
+        on = (start[None] <= times[:, None]) & (times[:, None] < end[None])
+        return [np.flatnonzero(row).tolist() for row in on]
 
     def close(self, complete: bool) -> Path:
         """Write the run record, the summary and the index, then move the file to its final name."""

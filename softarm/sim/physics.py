@@ -12,55 +12,48 @@ import taichi as ti
 
 from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.body import Body
+from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import KIND_CODES, Drive
 from softarm.config import Config
 from softarm.errors import SimulationError
+from softarm.sim.drive_kernels import product_of_sines, sum_of_sines
 from softarm.sim.runtime import device_array, host, task_layout, upload
+from softarm.sim.world import WorldFields, active_kinds, contact, node_load, pack, spring_factor
 
 f64nd = ti.types.ndarray(dtype=ti.f64, ndim=4)
 i32nd = ti.types.ndarray(dtype=ti.i32, ndim=2)
 
 
 @ti.func
-def product_of_sines(t: ti.f64, amplitude: ti.f64, a: int, freqs: ti.template()) -> ti.math.vec2:
-    """(f(t), f'(t)) of A prod_i sin(w_i t), by the product rule."""
-    value = amplitude
-    rate = 0.0
-    for n in range(freqs.shape[1]):
-        w = 2.0 * ti.math.pi * freqs[a, n]
-        s, c = ti.sin(w * t), ti.cos(w * t)
-        rate = rate * s + value * w * c
-        value = value * s
-    return ti.Vector([value, rate], ti.f64)
-
-
-@ti.func
-def sum_of_sines(t: ti.f64, a: int, freqs: ti.template(), amps: ti.template(), phases: ti.template()) -> ti.math.vec2:
-    """(f(t), f'(t)) of sum_i a_i sin(w_i t + phi_i)."""
-    value = 0.0
-    rate = 0.0
-    for n in range(freqs.shape[1]):
-        w = 2.0 * ti.math.pi * freqs[a, n]
-        phase = w * t + phases[a, n]
-        value += amps[a, n] * ti.sin(phase)
-        rate += amps[a, n] * w * ti.cos(phase)
-    return ti.Vector([value, rate], ti.f64)
-
-
-@ti.func
-def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.template(), springs: ti.template(),
-                      spring_params: ti.template(), mass: ti.template(), gx: ti.f64, gy: ti.f64):
-    """force[a] = gravity + every spring and damper (docs/model.md, Forces); spring_params[s] = (L0, k, b)."""
+def accumulate_forces(a: int, t: ti.f64, x: ti.template(), v: ti.template(), force: ti.template(),
+                      inertia: ti.template(), springs: ti.template(), spring_params: ti.template(), mass: ti.template(),
+                      free: ti.template(), gx: ti.f64, gy: ti.f64, world: ti.template(), disturbed: ti.template()):
+    """force[a] = gravity + every spring and damper (docs/model.md, Forces); spring_params[s] = (L0, k, b).
+    With `disturbed` (a compile-time switch), also every disturbance active at run time t: payloads add to
+    inertia[a] and the weight, pushes and contacts to the force, stiffness changes scale k."""
     g = ti.Vector([gx, gy], ti.f64)
+    bits = 0
+    if ti.static(disturbed):
+        bits = active_kinds(a, t, world.codes, world.windows)
     for i in range(x.shape[1]):
-        force[a, i] = mass[i] * g
+        if ti.static(disturbed):
+            load = node_load(a, i, t, bits, world.codes, world.windows, world.params, world.nodes)
+            inertia[a, i] = mass[i] + load[0]
+            force[a, i] = inertia[a, i] * g + ti.Vector([load[1], load[2]], ti.f64)
+            if free[i]:
+                force[a, i] += contact(a, t, x[a, i], v[a, i], bits, world.codes, world.windows, world.params)
+        else:
+            force[a, i] = mass[i] * g
     for s in range(springs.shape[0]):
         ends, params = springs[s], spring_params[s]
         i, j = ends[0], ends[1]
         d = x[a, j] - x[a, i]
         length = ti.sqrt(d[0] * d[0] + d[1] * d[1])
         u = d * (1.0 / length)
-        magnitude = params[1] * (length - params[0]) + params[2] * (v[a, j] - v[a, i]).dot(u)
+        k = params[1]
+        if ti.static(disturbed):
+            k *= spring_factor(a, s, t, bits, world.codes, world.windows, world.params, world.springs)
+        magnitude = k * (length - params[0]) + params[2] * (v[a, j] - v[a, i]).dot(u)
         f = magnitude * u
         force[a, i] = force[a, i] + f
         force[a, j] = force[a, j] - f
@@ -68,8 +61,9 @@ def accumulate_forces(a: int, x: ti.template(), v: ti.template(), force: ti.temp
 
 @ti.func
 def substep(a: int, t: ti.f64, h: ti.f64, kind: int, x: ti.template(), v: ti.template(), force: ti.template(),
-            rest: ti.template(), mass: ti.template(), free: ti.template(), amplitude: ti.template(),
-            freqs: ti.template(), amps: ti.template(), phases: ti.template(), direction: ti.template()):
+            inertia: ti.template(), rest: ti.template(), mass: ti.template(), free: ti.template(),
+            amplitude: ti.template(), freqs: ti.template(), amps: ti.template(), phases: ti.template(),
+            direction: ti.template(), disturbed: ti.template()):
     drive = ti.Vector([0.0, 0.0], ti.f64)
     if kind == 0:
         drive = product_of_sines(t, amplitude[a], a, freqs)
@@ -78,7 +72,10 @@ def substep(a: int, t: ti.f64, h: ti.f64, kind: int, x: ti.template(), v: ti.tem
     e = direction[None]
     for i in range(x.shape[1]):
         if free[i]:
-            v[a, i] = v[a, i] + h * force[a, i] / mass[i]
+            if ti.static(disturbed):
+                v[a, i] = v[a, i] + h * force[a, i] / inertia[a, i]
+            else:
+                v[a, i] = v[a, i] + h * force[a, i] / mass[i]
             x[a, i] = x[a, i] + h * v[a, i]
         else:
             for k in ti.static(range(2)):  # an axis the drive does not move stays exactly at rest (-0.0 too)
@@ -109,8 +106,11 @@ class Simulator:
     """
 
     def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
-                 blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100):
+                 blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100,
+                 disturbances: Sequence[Sequence[Disturbance]] = ()):
         arms, n, springs = len(drives), body.n_nodes, len(body.springs)
+        slots = pack(disturbances, arms, n, springs)
+        self.disturbed = slots.any  # a batch without any compiles the kernel without their code
         if len({(d.kind, d.direction, len(d.frequencies)) for d in drives}) != 1:
             raise ValueError("all arms of a batch share the excitation kind, direction and component count")
         self.kind = KIND_CODES[drives[0].kind]
@@ -124,11 +124,19 @@ class Simulator:
         self.free = ti.field(ti.i32)
         builder = ti.FieldsBuilder()
         builder.dense(ti.ij, (arms, n)).place(self.x, self.v, self.force)
+        # Disturbed batches only: every node's mass with its active payloads, and the slots (an undisturbed
+        # batch's kernel never reads them, so it does not pay for making them)
+        self.inertia, self.world = self.mass, None
+        if self.disturbed:
+            self.inertia = ti.field(ti.f64)
+            builder.dense(ti.ij, (arms, n)).place(self.inertia)
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
         builder.dense(ti.ij, (arms, len(drives[0].frequencies))).place(self.freqs, self.amps, self.phases)
         self._tree = builder.finalize()
+        if self.disturbed:
+            self.world = WorldFields(slots)
         fill = {self.x: np.broadcast_to(positions, (arms, n, 2)), self.v: np.broadcast_to(velocities, (arms, n, 2)),
                 self.rest: body.rest, self.mass: body.masses,
                 self.spring_params: np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1),
@@ -152,17 +160,18 @@ class Simulator:
         batch = batch if batch is not None else arm_batch(config)
         integration = config.integration
         return cls(batch.body, batch.drives, integration.frame_dt, integration.substeps, integration.blowup_distance,
-                   batch.positions, batch.velocities, block_frames)
+                   batch.positions, batch.velocities, block_frames, batch.disturbances)
 
     @ti.kernel
     def _advance(self, positions: f64nd, status: i32nd, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
                  frame_dt: ti.f64,
-                 blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, kind: ti.i32, tasks: ti.i32, spacing: ti.i32):
+                 blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, kind: ti.i32, tasks: ti.i32, spacing: ti.i32,
+                 disturbed: ti.template()):
         """Record each arm's state as frames first_frame.. into positions[:, :n_frames], stepping between them.
 
         Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
         status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
-        arm stops stepping.
+        arm stops stepping. Forces are those of the substep's start, at run time (k substeps + s) h.
         """
         h = frame_dt / substeps
         arms = self.x.shape[0]
@@ -178,11 +187,14 @@ class Simulator:
                         if status[a, 0] < 0:
                             k = first_frame + f
                             for s in range(substeps):
-                                accumulate_forces(a, self.x, self.v, self.force, self.springs, self.spring_params,
-                                                  self.mass, gx, gy)
+                                now = ti.cast(k * substeps + s, ti.f64) / substeps * frame_dt
+                                accumulate_forces(a, now, self.x, self.v, self.force, self.inertia, self.springs,
+                                                  self.spring_params, self.mass, self.free, gx, gy, self.world,
+                                                  disturbed)
                                 t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + self.time_offset[a]
-                                substep(a, t, h, kind, self.x, self.v, self.force, self.rest, self.mass, self.free,
-                                        self.amplitude, self.freqs, self.amps, self.phases, self.direction)
+                                substep(a, t, h, kind, self.x, self.v, self.force, self.inertia, self.rest, self.mass,
+                                        self.free, self.amplitude, self.freqs, self.amps, self.phases, self.direction,
+                                        disturbed)
                             far = first_far_node(a, self.x, self.rest, self.free, blowup_distance)
                             if far >= 0:
                                 status[a, 0] = k + 1
@@ -194,8 +206,8 @@ class Simulator:
         if not 1 <= n_frames <= self.block_frames:
             raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
         gx, gy = self.body.gravity
-        self._advance(self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt, self.blowup_distance, float(gx), float(gy),
-                      self.kind, *self._tasks)
+        self._advance(self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt,
+                      self.blowup_distance, float(gx), float(gy), self.kind, *self._tasks, self.disturbed)
         self.history = host(self._positions)
         self.frame += n_frames
         self._raise_on_blowup()
@@ -213,6 +225,8 @@ class Simulator:
     def close(self) -> None:
         """Free the fields; a process that makes many simulators (a notebook, the tests) should call it."""
         self._tree.destroy()
+        if self.world is not None:
+            self.world.destroy()
 
     def _raise_on_blowup(self) -> None:
         status = host(self._status)

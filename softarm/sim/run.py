@@ -135,8 +135,9 @@ def record_batch(config: Config, batch: ArmBatch, paths: list[Path], arch: str,
 def start_recorder(config: Config, batch: ArmBatch, paths: list[Path], block_frames: int) -> RecorderProcess:
     """The writer processes of a run, each file opened with its arm's model metadata."""
     body = batch.body
-    specs = [(path, model_metadata(config, body, drive, seed, p0, v0), config.integration.frame_dt)
-             for path, drive, seed, p0, v0 in zip(paths, batch.drives, batch.seeds, batch.positions, batch.velocities)]
+    specs = [(path, model_metadata(config, body, drive, seed, p0, v0, world), config.integration.frame_dt)
+             for path, drive, seed, p0, v0, world in zip(paths, batch.drives, batch.seeds, batch.positions,
+                                                         batch.velocities, batch.disturbances)]
     return RecorderProcess(specs, BlockShape(batch.arms, block_frames, config.camera.height, config.camera.width,
                                              len(body.sensors), body.n_nodes))
 

@@ -1,5 +1,5 @@
 """Every excitation kind and direction makes a recording that the format's independent checker accepts,
-and the reader still reads the first format version."""
+and the reader still reads the first two format versions."""
 
 import subprocess
 import sys
@@ -39,25 +39,36 @@ def test_every_kind_and_direction_records_a_file_the_independent_checker_accepts
     assert done.returncode == 0, done.stdout + done.stderr
 
 
-def test_a_version_1_recording_reads_as_the_papers_sideways_drive(tmp_path):
-    simulate(load_config(overrides={"run.duration": 0.3}), tmp_path / "v2.mcap")
-    with open(tmp_path / "v2.mcap", "rb") as source, open(tmp_path / "v1.mcap", "wb") as target:
+def older(source_path: Path, target_path: Path, version: int) -> None:
+    """A copy of a /3 recording as softarm wrote /2 (no disturbances: no key, no channel) or /1 (as /2, its
+    excitation without kind and direction)."""
+    with open(source_path, "rb") as source, open(target_path, "wb") as target:
         reader, writer = make_reader(source), Writer(target, compression=CompressionType.ZSTD)
         writer.start()
         summary = reader.get_summary()
         schemas = {i: writer.register_schema(s.name, s.encoding, s.data) for i, s in summary.schemas.items()}
         channels = {i: writer.register_channel(c.topic, c.message_encoding, schemas[c.schema_id])
-                    for i, c in summary.channels.items()}
+                    for i, c in summary.channels.items() if c.topic != "/arm/disturbance"}
         for meta in reader.iter_metadata():
             values = dict(meta.metadata)
             if meta.name == "softarm":
                 model = orjson.loads(values["model"])
-                model["excitation"] = {k: model["excitation"][k] for k in ("amplitude", "frequencies", "time_offset")}
-                values = {"format": "softarm-recording/1", "model": orjson.dumps(model).decode()}
+                del model["disturbances"]
+                if version == 1:
+                    model["excitation"] = {k: model["excitation"][k] for k in ("amplitude", "frequencies", "time_offset")}
+                values = {"format": f"softarm-recording/{version}", "model": orjson.dumps(model).decode()}
             writer.add_metadata(meta.name, values)
         for _, channel, message in reader.iter_messages():
-            writer.add_message(channels[channel.id], message.log_time, message.data, message.publish_time)
+            if channel.id in channels:
+                writer.add_message(channels[channel.id], message.log_time, message.data, message.publish_time)
         writer.finish()
-    old, new = read_recording(tmp_path / "v1.mcap"), read_recording(tmp_path / "v2.mcap")
+
+
+@pytest.mark.parametrize("version", [1, 2])
+def test_recordings_of_the_first_versions_read_as_the_papers_sideways_drive_undisturbed(tmp_path, version):
+    simulate(load_config(overrides={"run.duration": 0.3}), tmp_path / "v3.mcap")
+    older(tmp_path / "v3.mcap", tmp_path / "old.mcap", version)
+    old, new = read_recording(tmp_path / "old.mcap"), read_recording(tmp_path / "v3.mcap")
     assert old.model["excitation"] == new.model["excitation"]
     assert (old.frames == new.frames).all() and (old.stretch == new.stretch).all()
+    assert old.active.shape == (30, 0) and "disturbances" not in old.model

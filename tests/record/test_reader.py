@@ -32,9 +32,9 @@ def test_mcap_without_softarm_metadata_is_refused(tmp_path):
 
 
 def test_recording_of_a_newer_format_is_refused(tmp_path):
-    write_mcap(tmp_path / "new.mcap", ("softarm", {"format": "softarm-recording/3", "model": "{}"}))
+    write_mcap(tmp_path / "new.mcap", ("softarm", {"format": "softarm-recording/4", "model": "{}"}))
     assert_one_line_error(softarm("train", "new.mcap", "--out", "x.pt", cwd=tmp_path),
-                          "softarm-recording/3", "upgrade softarm")
+                          "softarm-recording/4", "upgrade softarm")
 
 
 def test_recording_cut_before_its_metadata_is_refused(recordings, tmp_path):

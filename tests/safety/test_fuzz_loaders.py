@@ -53,7 +53,7 @@ def test_damaged_recordings_are_read_or_refused(short_recording, tmp_path):
         refused_or_read(lambda: read_model(path))
         return refused_or_read(lambda: read_recording(path, nodes=data.draw(st.booleans())))
 
-    fuzz(1500, case)
+    fuzz(1000, case)
 
 
 def test_damaged_checkpoints_are_read_or_refused(tiny_checkpoint, tmp_path):
@@ -63,7 +63,7 @@ def test_damaged_checkpoints_are_read_or_refused(tiny_checkpoint, tmp_path):
         path.write_bytes(data.draw(damaged(original)))
         return refused_or_read(lambda: TrainedModel(path))
 
-    fuzz(300, case)
+    fuzz(200, case)
 
 
 WRONG_VALUES = st.one_of(st.none(), st.integers(-3, 10**6), st.text(max_size=5), st.lists(st.integers(), max_size=3),
@@ -88,7 +88,7 @@ def test_checkpoints_of_the_wrong_shape_are_read_or_refused(tiny_checkpoint, tmp
         torch.save(state, path)
         return refused_or_read(lambda: TrainedModel(path))
 
-    fuzz(250, case)
+    fuzz(200, case)
 
 
 SUITE = {"suite": "softarm-suite/1", "families": {"paper": {"probes": "p", "levels": {
@@ -107,7 +107,7 @@ def test_damaged_folder_manifests_are_read_or_refused(short_recording, tmp_path,
                                                           st.builds(json_bytes, reshaped(manifest)))))
         return refused_or_read(lambda: load(tmp_path))
 
-    fuzz(800, case)
+    fuzz(600, case)
 
 
 STUDY = b"""name = "s"
@@ -134,4 +134,4 @@ def test_damaged_toml_files_are_read_or_refused(tmp_path, original, load):
         path.write_bytes(data.draw(damaged(original)))
         return refused_or_read(lambda: load(path))
 
-    fuzz(800, case)
+    fuzz(600, case)
