@@ -54,19 +54,25 @@ def replay_table(metrics: dict[str, Any]) -> Table:
 
 
 def suite_table(evaluation: dict[str, Any]) -> Table:
-    """One row per family: the model's IoU, BCE, tip error and skill, and the baselines' IoU beside them."""
+    """One row per family: the model's IoU, BCE, tip error and skill, and the baselines' IoU beside them (the
+    privileged node ridge too, where the checkpoint has it); the mean of each group of families below."""
+    families = evaluation["families"]
+    privileged = any("ridge_nodes" in row["baselines"] for row in families.values())
     table = Table(title=f"{evaluation['suite']}: {evaluation['checkpoint']}")
-    for column in ("family", "frames", "IoU", "BCE", "tip (mm)", "tip median (mm)", "skill", "mean-frame IoU", "ridge IoU",
-                   "ridge skill", "AE ceiling IoU"):
+    columns = ["family", "frames", "IoU", "BCE", "tip (mm)", "tip median (mm)", "skill", "mean-frame IoU", "ridge IoU",
+               "ridge skill", "AE ceiling IoU", *(["node-ridge IoU"] if privileged else [])]
+    for column in columns:
         table.add_column(column, justify="left" if column == "family" else "right")
-    for name, row in evaluation["families"].items():
+    for name, row in families.items():
         b = row["baselines"]
         table.add_row(name, str(row["frames"]), f"{row['iou']:.3f}", f"{row['bce']:.4f}", f"{row['tip_error_mm']:.1f}",
-                      f"{row['tip_error_median_mm']:.1f}", f"{row['skill']:.2f}", f"{b['mean_frame']['iou']:.3f}", f"{b['ridge']['iou']:.3f}",
-                      f"{b['ridge']['skill']:.2f}", f"{b['ae_ceiling']['iou']:.3f}")
-    mean = evaluation["mean"]
-    table.add_row("mean of families", "", f"{mean['iou']:.3f}", f"{mean['bce']:.4f}", f"{mean['tip_error_mm']:.1f}",
-                  f"{mean['tip_error_median_mm']:.1f}", f"{mean['skill']:.2f}", "", "", "", "")
+                      f"{row['tip_error_median_mm']:.1f}", f"{row['skill']:.2f}", f"{b['mean_frame']['iou']:.3f}",
+                      f"{b['ridge']['iou']:.3f}", f"{b['ridge']['skill']:.2f}", f"{b['ae_ceiling']['iou']:.3f}",
+                      *([f"{b['ridge_nodes']['iou']:.3f}" if "ridge_nodes" in b else ""] if privileged else []))
+    means = {f"mean of {group} families": mean for group, mean in evaluation.get("group_means", {}).items()}
+    for label, mean in {**means, "mean of families": evaluation["mean"]}.items():
+        table.add_row(label, "", f"{mean['iou']:.3f}", f"{mean['bce']:.4f}", f"{mean['tip_error_mm']:.1f}",
+                      f"{mean['tip_error_median_mm']:.1f}", f"{mean['skill']:.2f}", *[""] * (len(columns) - 7))
     trust = evaluation["confidence"]
     table.caption = (f"confidence over {trust['frames']} frames: Spearman correlation with IoU {trust['spearman']:.2f}; "
                      f"IoU of the {trust['least_trusted_share']:.0%} least trusted {trust['least_trusted_iou']:.3f}, "

@@ -10,7 +10,7 @@ from softarm_cli.progress import LazyProgress, training_progress
 from softarm_cli.tables import metrics_table
 
 from softarm.config import load_config
-from softarm.model.registry import LATENT_MODELS
+from softarm.model.registry import INPUT_CHANNELS, LATENT_MODELS
 
 
 def train(
@@ -20,6 +20,7 @@ def train(
     epochs_ae: Annotated[Optional[int], typer.Option(help=f"Autoencoder epochs [default: {D.train.epochs_ae}].")] = None,
     epochs_lstm: Annotated[Optional[int], typer.Option(help=f"Latent model epochs [default: {D.train.epochs_lstm}].")] = None,
     model: Annotated[Optional[str], typer.Option(help=f"Latent model: {' | '.join(LATENT_MODELS)} (window: the paper's LSTM over the last --history samples; stream: an LSTM that carries its state through the whole stream; gru: the same with a GRU) [default: {D.train.model}].")] = None,
+    inputs: Annotated[Optional[str], typer.Option(metavar="NAME,...", help=f"Input channels the latent model reads, of {' | '.join(INPUT_CHANNELS)} [default: the stretch for up to 4 recordings, stretch,drive for a corpus].")] = None,
     history: Annotated[Optional[int], typer.Option(help=f"Input samples the window model sees, and the first frame any model imagines [default: {D.train.history}].")] = None,
     include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].", show_default=False)] = None,
     latent: Annotated[Optional[int], typer.Option(help=f"Latent features of the autoencoder [default: {D.train.latent}].")] = None,
@@ -39,6 +40,7 @@ def train(
     from softarm.learn.run import train as run_training
 
     overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.model": model, "train.history": history,
+                 "train.inputs": [name.strip() for name in inputs.split(",")] if inputs else None,
                  "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
     with LazyProgress(err, "training", 1, "steps", quiet=quiet, log=out) as bar:

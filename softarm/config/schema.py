@@ -138,6 +138,7 @@ class TrainConfig:
     latent: int
     history: int
     include_current: bool
+    inputs: tuple[str, ...]
     model: str
     sequence: int
     streams: int

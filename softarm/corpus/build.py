@@ -12,7 +12,7 @@ from typing import Callable, Optional, Union
 
 from softarm.config import load_config
 from softarm.corpus.manifest import INCOMPLETE, MANIFEST
-from softarm.corpus.presets import PRESETS, SEED_BLOCK, arms_per_group, seeds_of
+from softarm.corpus.presets import PRESETS, SEED_BLOCK, arms_per_group, seeds_of, world_mix
 from softarm.errors import ConfigError
 from softarm.files import claimed, made_folders, write_json
 from softarm.sim.groups import fresh_manifest, planned_paths, simulate_groups
@@ -33,8 +33,9 @@ def write_corpus(folder: Union[str, Path], preset: str = "general", arms: int = 
         raise ConfigError(f"--arms {arms} is out of range: the {preset} preset's {len(groups)} group(s) need "
                           f"{len(groups)} to {SEED_BLOCK} arms, one or more each")
     counts = arms_per_group(groups, arms)
-    runs = [(g.name, load_config(overrides={**g.overrides, "run.duration": duration, "run.arms": n,
-                                            "run.seed": seeds_of(k, n)})) for k, (g, n) in enumerate(zip(groups, counts))]
+    runs = [(g.name, load_config(overrides={**g.overrides, **(world_mix(duration) if g.world else {}),
+                                            "run.duration": duration, "run.arms": n, "run.seed": seeds_of(k, n)}))
+            for k, (g, n) in enumerate(zip(groups, counts))]
     folder = Path(folder)
     manifest = fresh_manifest(folder, MANIFEST, "a corpus", force)  # after the options are checked
     entries: dict[str, dict] = {}

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from softarm.errors import RecordingError
 
+MIN_CORPUS = 4  # recordings; more make a corpus: it keeps some out for validation, and reads the drive too
 MANIFEST = "corpus.json"
 INCOMPLETE = ".corpus-incomplete.json"
 

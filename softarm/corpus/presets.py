@@ -3,8 +3,9 @@
 `paper` is the paper's drive at as many time offsets as arms. `general` spreads the arms over every kind
 of motion the arm can live through: the paper's product at several rhythms and amplitudes,
 band-limited multisines from quasi-static to both first modes (1.48 and 3.99 Hz), and single sines
-in five bands whose amplitudes keep the swing inside the camera's view (small at resonance). The
-ranges cover the suite's levels without being them, and every seed stays below the suite's.
+in five bands whose amplitudes keep the swing inside the camera's view (small at resonance); and over
+all of them the world (`world_mix`): about half of the arms are poked, loaded, damaged or meet an
+obstacle. The ranges cover the suite's levels without being them, and every seed stays below the suite's.
 """
 
 from dataclasses import dataclass
@@ -21,6 +22,22 @@ class Group:
     name: str
     overrides: dict[str, Any]
     share: float   # of the corpus's arms
+    world: bool = False  # its arms draw the disturbances of `world_mix`
+
+
+def world_mix(duration: float) -> dict[str, Any]:
+    """[[world.random]] specs every arm of a `world` group draws from its seed: pokes (30 % of the arms), a tip
+    load (15 %), a damaged segment (15 %), an obstacle beside the swing (15 %), independently; about 43 % draw
+    none. Times scale with the recordings' duration."""
+    later = [0.1 * duration, 0.75 * duration]
+    def spec(kind: str, share: float, **keys: Any) -> dict[str, Any]:
+        return {"kind": kind, "share": share, "count": [1, 1], "start": later, **keys}
+    return {"world.random": [
+        spec("push", 0.3, count=[1, 6], start=[0.02 * duration, 0.97 * duration], duration=[0.05, 0.2],
+             force=[0.01, 0.08], rows=[6, 18]),
+        spec("payload", 0.15, mass=[0.003, 0.02], rows=[16, 18]),
+        spec("stiffness", 0.15, factor=[0.25, 0.7], rows=[2, 15], span=2),
+        spec("obstacle", 0.15, start=[0.0, 0.0], radius=[0.008, 0.025], gap=[0.002, 0.01], rows=[6, 18])]}
 
 
 def _multisine(band: list[float], rms: float, components: int = 8) -> dict[str, Any]:
@@ -37,21 +54,27 @@ def _product(scale: float, amplitude: float) -> dict[str, Any]:
             "excitation.amplitude": amplitude, "excitation.amplitude_jitter": 0.3}
 
 
+GENERAL = (  # (group, its motion, its share of the arms)
+    ("product_x0.7", _product(0.7, 0.004), 0.05),
+    ("product_x0.85", _product(0.85, 0.004), 0.05),
+    ("product_x1", _product(1.0, 0.003), 0.08),
+    ("product_x1.2", _product(1.2, 0.004), 0.05),
+    ("product_x1.4", _product(1.4, 0.004), 0.05),
+    ("multisine_0.1-1Hz", _multisine([0.1, 1.0], 0.003), 0.10),
+    ("multisine_0.5-2Hz", _multisine([0.5, 2.0], 0.0012), 0.10),
+    ("multisine_1-3Hz", _multisine([1.0, 3.0], 0.0015), 0.10),
+    ("multisine_2-6Hz", _multisine([2.0, 6.0], 0.002, 12), 0.08),
+    ("multisine_0.1-6Hz", _multisine([0.1, 6.0], 0.0015, 16), 0.12),
+    ("sine_0.1-0.8Hz", _sine([0.1, 0.8], 0.008), 0.05),
+    ("sine_0.8-1.3Hz", _sine([0.8, 1.3], 0.002), 0.04),
+    ("sine_1.3-1.7Hz", _sine([1.3, 1.7], 0.0003), 0.04),
+    ("sine_1.7-3Hz", _sine([1.7, 3.0], 0.0015), 0.04),
+    ("sine_3-6Hz", _sine([3.0, 6.0], 0.0025), 0.05),
+)
+
 PRESETS: dict[str, tuple[Group, ...]] = {
     "paper": (Group("paper", {}, 1.0),),
-    "general": (
-        Group("product_x0.7", _product(0.7, 0.004), 0.05), Group("product_x0.85", _product(0.85, 0.004), 0.05),
-        Group("product_x1", _product(1.0, 0.003), 0.08), Group("product_x1.2", _product(1.2, 0.004), 0.05),
-        Group("product_x1.4", _product(1.4, 0.004), 0.05),
-        Group("multisine_0.1-1Hz", _multisine([0.1, 1.0], 0.003), 0.10),
-        Group("multisine_0.5-2Hz", _multisine([0.5, 2.0], 0.0012), 0.10),
-        Group("multisine_1-3Hz", _multisine([1.0, 3.0], 0.0015), 0.10),
-        Group("multisine_2-6Hz", _multisine([2.0, 6.0], 0.002, 12), 0.08),
-        Group("multisine_0.1-6Hz", _multisine([0.1, 6.0], 0.0015, 16), 0.12),
-        Group("sine_0.1-0.8Hz", _sine([0.1, 0.8], 0.008), 0.05), Group("sine_0.8-1.3Hz", _sine([0.8, 1.3], 0.002), 0.04),
-        Group("sine_1.3-1.7Hz", _sine([1.3, 1.7], 0.0003), 0.04), Group("sine_1.7-3Hz", _sine([1.7, 3.0], 0.0015), 0.04),
-        Group("sine_3-6Hz", _sine([3.0, 6.0], 0.0025), 0.05),
-    ),
+    "general": tuple(Group(name, motion, share, world=True) for name, motion, share in GENERAL),
 }
 
 

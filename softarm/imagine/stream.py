@@ -9,7 +9,7 @@ imagine frame k+1, what the body will look like at the next sample; with `includ
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Optional, Union
+from typing import TYPE_CHECKING, Any, Optional, Union
 
 import numpy as np
 
@@ -38,18 +38,31 @@ class StreamingImaginer:
         self.imaginer = imaginer
         self.reset()
 
-    def step(self, sample: np.ndarray) -> Optional[ImaginedFrame]:
-        """Take the next sample (F raw readings of the model's input channels, e.g. the stretch in m); return
-        the frame it lets the model imagine, or None until `history` samples have been seen (the first frame a
-        batch replay imagines)."""
+    def step(self, sample: Optional[np.ndarray] = None, **channels: Any) -> Optional[ImaginedFrame]:
+        """Take the next sample: every input channel's raw readings side by side in the checkpoint's order
+        (`sample`), or each channel by its name (`step(stretch=[...], drive=0.002)`, the stretch in m and the
+        drive's displacement in m). Return the frame it lets the model imagine, or None until `history` samples
+        have been seen (the first frame a batch replay imagines)."""
         imaginer = self.imaginer
+        raw = np.asarray(sample if sample is not None else self.assemble(channels), np.float64)
+        if raw.shape != (imaginer.inputs.features,):
+            raise ValueError(f"a sample holds {imaginer.inputs.features} readings "
+                             f"({', '.join(f'{c.name}: {w}' for c, w in zip(imaginer.inputs.channels, imaginer.inputs.widths))}), "
+                             f"got shape {raw.shape}")
         self.samples += 1
-        answer = self._reader.step(imaginer.normalised(np.asarray(sample, np.float64)))
+        answer = self._reader.step(imaginer.normalised(raw))
         if answer is None:
             return None
         prediction = Prediction(np.array([self.samples - 1 + imaginer.latent.lead]), answer[0][None], answer[1][None])
         return ImaginedFrame(int(prediction.targets[0]), imaginer.decode(prediction.latents)[0],
                              float(prediction.confidence[0]))
+
+    def assemble(self, channels: dict[str, Any]) -> np.ndarray:
+        """One sample from readings named by channel, in the checkpoint's order."""
+        names = [c.name for c in self.imaginer.inputs.channels]
+        if sorted(channels) != sorted(names):
+            raise ValueError(f"this model reads {', '.join(names)}; got {', '.join(sorted(channels)) or 'none'}")
+        return np.concatenate([np.atleast_1d(np.asarray(channels[name], np.float64)) for name in names])
 
     def reset(self) -> None:
         """Forget what was read (a new run or a gap in the readings)."""

@@ -15,6 +15,7 @@ import numpy as np
 
 from softarm.arm.drive import HELD_OUT_SEED_BASE
 from softarm.config import Config, TrainConfig
+from softarm.corpus.manifest import MIN_CORPUS
 from softarm.errors import RecordingError
 from softarm.files import fingerprint
 from softarm.interrupt import Stopped
@@ -22,8 +23,6 @@ from softarm.model.fits import check_fits, recording_shape
 from softarm.model.inputs import InputChannel, read_channels
 from softarm.model.windows import input_windows, window_count
 from softarm.record.reader import read_recording
-
-MIN_CORPUS = 4  # recordings; more make a corpus, which keeps some out for validation
 
 
 @dataclass(frozen=True)
@@ -36,6 +35,7 @@ class RunData:
     times: np.ndarray           # (T,) s
     bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
     held_out: bool = False      # a validation recording: nothing of it trains (b0 = 0)
+    positions: Optional[np.ndarray] = None  # (T, N, 2) float32 node positions (m), where the recording has them
 
     def segment(self, name: str) -> tuple[int, int]:
         b0, b1 = self.bounds
@@ -112,7 +112,7 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
     for path in map(Path, paths):
         if stop():
             raise Stopped()
-        rec = read_recording(path, nodes=any(c.needs_nodes(config) for c in channels))
+        rec = read_recording(path, nodes=True)  # the node positions train the privileged baseline too
         if int(rec.model.get("seed", 0)) >= HELD_OUT_SEED_BASE:
             raise RecordingError(f"{path.name} was made from seed {rec.model['seed']}, one of the held-out suite's "
                                  f"(>= {HELD_OUT_SEED_BASE}): train on seeds below it")
@@ -121,7 +121,8 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
         validation = len(sequences) in held_out
         seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=frames,
                       inputs=read_channels(channels, rec, config).astype(np.float32), times=rec.times,
-                      bounds=(0, bounds[1]) if validation else bounds, held_out=validation)
+                      bounds=(0, bounds[1]) if validation else bounds, held_out=validation,
+                      positions=rec.positions.astype(np.float32))
         shape = recording_shape(rec.model, channels, config)
         if first is None:
             first = (path.name, shape)

@@ -9,6 +9,7 @@ import numpy as np
 from softarm.learn.codes import LatentCodes
 from softarm.learn.dataset import Dataset
 from softarm.learn.train_state import TrainState
+from softarm.model import node_ridge
 from softarm.model.answers import score_answers
 from softarm.model.autoencoder import reconstruct
 from softarm.model.baselines import Baselines, ridge_fit
@@ -45,11 +46,14 @@ def held_out_mse(imaginer: Imaginer, data: Dataset, codes: LatentCodes) -> float
 
 
 def fit_baselines(state: TrainState) -> Baselines:
-    """The mean training frame and a ridge map from the same windows to the same latents as the latent model's."""
+    """The mean training frame, a ridge map from the same windows to the same latents as the latent model's, and
+    the privileged ridge from 2 s of inputs to the node positions (node_ridge.py)."""
     t, data = state.config.train, state.data
     windows, targets = data.windows("train", t.history, t.lead)
     ridge = ridge_fit(state.inputs.normalise(windows), state.latent_scaler.forward(state.codes().of(targets)))
-    return Baselines(mean_frame=data.frames("train").mean(axis=0), ridge=ridge)
+    nodes = node_ridge.fit([(state.inputs.normalise(s.inputs), s.positions, s.segment("train")[1])
+                            for s in data.sequences if s.positions is not None], t.lead)
+    return Baselines(mean_frame=data.frames("train").mean(axis=0), ridge=ridge, nodes=nodes)
 
 
 def evaluate(state: TrainState, baselines: Baselines) -> dict[str, Any]:

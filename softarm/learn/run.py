@@ -21,7 +21,7 @@ from softarm.files import check_outputs, claimed, made_folders, write_json
 from softarm.interrupt import Stopped, stop_on_signal
 from softarm.learn.cache import frame_cache
 from softarm.learn.observer import Progress, open_observer
-from softarm.model.registry import check_latent_model
+from softarm.model.registry import check_inputs, check_latent_model
 
 DEFAULT_FOLDER = Path("recordings")
 PathLike = Union[str, Path]
@@ -99,7 +99,8 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     start = time.perf_counter()
     check_minutes(minutes)
     config = config if config is not None else load_config()
-    check_latent_model(config.train.model)  # an unknown model is refused before any work
+    check_latent_model(config.train.model)  # an unknown model or input is refused before any work
+    check_inputs(list(config.train.inputs))
     out = Path(out) if out is not None else default_checkpoint(recordings)
     recordings, manifests = expand_folders(recordings)
     check_train_outputs(out, rrd, resume, force, [*recordings, *manifests, *inputs])

@@ -14,14 +14,15 @@ import numpy as np
 import torch
 
 from softarm import __version__
-from softarm.config import Config, load_config
+from softarm.config import Config, load_config, override
+from softarm.corpus.manifest import MIN_CORPUS
 from softarm.errors import CheckpointError
 from softarm.learn.codes import LatentCodes
 from softarm.learn.dataset import Dataset, load_dataset
 from softarm.model.autoencoder import Autoencoder
 from softarm.model.baselines import Baselines
 from softarm.model.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
-from softarm.model.inputs import Inputs, channels
+from softarm.model.inputs import Inputs, channels, chosen_inputs
 from softarm.model.latent import LatentModel, TrainingSeries
 from softarm.model.registry import latent_model_class
 from softarm.model.scaler import Scaler
@@ -126,8 +127,9 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
     saved = load_checkpoint(out) if resume else None
     if saved is not None:
         config = _saved_config(saved, config)
+    config = override(config, {"train.inputs": list(chosen_inputs(config.train.inputs, len(paths), MIN_CORPUS))})
     t = config.train
-    data = load_dataset(paths, config, channels(), cache, stop)
+    data = load_dataset(paths, config, channels(config.train.inputs), cache, stop)
     torch.manual_seed(t.seed)
     autoencoder = Autoencoder(*data.image_shape, t.latent)
     state = TrainState(config, data, autoencoder, torch.optim.Adam(autoencoder.parameters(), lr=t.lr_ae))

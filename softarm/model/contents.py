@@ -42,6 +42,10 @@ def check_contents(state: dict[str, Any], path: Path) -> None:
                                             for k in ("mean_frame", "ridge_weights", "ridge_bias"))
                 and list(b["mean_frame"].shape) == shape and b["ridge_weights"].ndim == 2
                 and b["ridge_bias"].shape == b["ridge_weights"].shape[1:], "baselines")
+        if "node_weights" in b:
+            require(isinstance(b["node_weights"], torch.Tensor) and isinstance(b.get("node_bias"), torch.Tensor)
+                    and b["node_weights"].ndim == 2 and b["node_bias"].shape == b["node_weights"].shape[1:],
+                    "node baseline")
 
 
 def _positive_int(value: Any) -> bool:

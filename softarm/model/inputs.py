@@ -18,7 +18,8 @@ from softarm.sense.reading import needs_nodes, sensed_stretch, sensor_count
 if TYPE_CHECKING:
     from softarm.record.reader import Recording
 
-DEFAULT_CHANNELS = ("stretch",)  # what every model reads today
+PAPER = ("stretch",)              # the paper's model: the stretch alone
+GENERAL = ("stretch", "drive")    # a model of many motions: the feeling and the command
 
 
 class InputChannel:
@@ -54,8 +55,43 @@ class Stretch(InputChannel):
         return needs_nodes(config.sensing)
 
 
-def channels(names: Sequence[str] = DEFAULT_CHANNELS) -> tuple[InputChannel, ...]:
+class Drive(InputChannel):
+    """The robot's own motor command (the efference copy): the driven nodes' displacement along the drive
+    direction, as `/arm/excitation` records it (m)."""
+    name = "drive"
+    what = "drive signals"
+
+    def features(self, model: dict[str, Any], config: Config) -> int:
+        return 1
+
+    def read(self, recording: "Recording", config: Config) -> np.ndarray:
+        return np.asarray(recording.displacement, np.float64)[:, None]
+
+
+class DriveRate(InputChannel):
+    """The command's rate (m/s): the displacement's backward difference over one frame, 0 at the first; causal,
+    so the streamer reads it as a batch replay does."""
+    name = "drive_rate"
+    what = "drive-rate signals"
+
+    def features(self, model: dict[str, Any], config: Config) -> int:
+        return 1
+
+    def read(self, recording: "Recording", config: Config) -> np.ndarray:
+        d = np.asarray(recording.displacement, np.float64)
+        return np.concatenate([[0.0], np.diff(d)])[:, None] / recording.frame_dt
+
+
+def channels(names: Sequence[str] = PAPER) -> tuple[InputChannel, ...]:
     return tuple(input_channel_class(name)() for name in names)
+
+
+def chosen_inputs(asked: Sequence[str], recordings: int, corpus: int) -> tuple[str, ...]:
+    """The input channels of a training: those `train.inputs` lists, or when it lists none the paper's (the
+    stretch) for a few recordings and the stretch with the drive for a corpus of more than `corpus`."""
+    if asked:
+        return tuple(asked)
+    return GENERAL if recordings > corpus else PAPER
 
 
 def read_channels(chosen: Sequence[InputChannel], recording: "Recording", config: Config) -> np.ndarray:

@@ -16,7 +16,17 @@ LATENT_MODELS = {
 }
 INPUT_CHANNELS = {
     "stretch": "softarm.model.inputs:Stretch",      # the stretch sensors, read as [sensing] says
+    "drive": "softarm.model.inputs:Drive",          # the motor command: the top's displacement
+    "drive_rate": "softarm.model.inputs:DriveRate",  # its rate, by a backward difference
 }
+
+
+def check_inputs(names: list[str]) -> None:
+    """Refuse `train.inputs` naming a channel no class answers to, or one twice, without importing any."""
+    for name in names:
+        _check(INPUT_CHANNELS, name, "config key 'train.inputs'")
+    if len(set(names)) != len(names):
+        raise ConfigError(f"config key 'train.inputs' = {names!r} names a channel twice")
 
 
 def check_latent_model(name: str) -> None:

@@ -36,6 +36,12 @@ def init_taichi(arch: str = "cpu", debug: bool = False) -> str:
     return backend_name()
 
 
+def ensure_taichi() -> str:
+    """Taichi as it runs, or on the CPU where nothing started it yet (work that renders a few frames for a
+    score, not a simulation the user placed on a device)."""
+    return backend_name() if _started else init_taichi("cpu")
+
+
 def _start(backend: object, debug: bool) -> None:
     with contextlib.redirect_stdout(io.StringIO()):  # ti.init prints "Starting on arch=..." itself
         ti.init(arch=backend, default_fp=ti.f64, offline_cache=True, debug=debug, log_level=ti.ERROR,

@@ -23,7 +23,7 @@ from typing import Any, Union
 
 from softarm.config import load_config
 from softarm.errors import ConfigError
-from softarm.model.registry import check_latent_model
+from softarm.model.registry import check_inputs, check_latent_model
 
 Value = Union[int, float, str]
 STUDY_KEYS = ("name", "variable", "description", "quick", "trials")
@@ -110,7 +110,9 @@ def check_overrides(overrides: dict[str, Any], where: str) -> None:
     """load_config's check of the overrides and the latent model they name, the message prefixed with where they
     come from."""
     try:
-        check_latent_model(load_config(overrides=overrides).train.model)
+        train = load_config(overrides=overrides).train
+        check_latent_model(train.model)
+        check_inputs(list(train.inputs))
     except ConfigError as e:
         raise ConfigError(f"{where}: {e}") from None
 

@@ -17,6 +17,7 @@ from softarm.suite.families import (
     CANDIDATES,
     DURATION,
     FAMILIES,
+    GROUPS,
     SEEDS_PER_LEVEL,
     SUITE_SEED_BASE,
     SUITE_VERSION,
@@ -37,7 +38,7 @@ def write_suite(folder: Union[str, Path], force: bool = False, arch: str = "cpu"
     runs = [(f"{family.name}_level{family.levels.index(level)}",
              load_config(overrides={**level.overrides, "run.duration": DURATION, "run.seed": seed,
                                     "run.arms": CANDIDATES})) for family, level, seed in levels]
-    entries: dict[str, dict] = {f.name: {"probes": f.probes, "levels": {}} for f in FAMILIES}
+    entries: dict[str, dict] = {f.name: {"probes": f.probes, "group": GROUPS[f.name], "levels": {}} for f in FAMILIES}
 
     def keep(k: int, paths: list[Path]) -> None:
         family, level, seed = levels[k]

@@ -29,26 +29,28 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
     Each level is read with the imperfections the suite gives it, over those the checkpoint was trained
     with; `sensor_noise` replaces both for every level.
     """
-    from softarm.model.answers import ANSWERS  # torch loads here, not when softarm is imported
-    from softarm.model.trained import TrainedModel
+    from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
 
     suite = read_suite(folder)
     scorer = CaseScorer(TrainedModel(checkpoint))
-    per_family: dict[str, dict[str, list[dict[str, np.ndarray]]]] = {f: {a: [] for a in ANSWERS} for f in suite.families}
+    per_family: dict[str, dict[str, list[dict[str, np.ndarray]]]] = {f: {} for f in suite.families}
     confidence, iou = [], []
     for done, case in enumerate(suite.cases, 1):
         scores, trust = scorer.score(case, sensor_noise)
         for answer, answer_scores in scores.items():
-            per_family[case.family][answer].append(answer_scores)
+            per_family[case.family].setdefault(answer, []).append(answer_scores)
         confidence.append(trust)
         iou.append(scores["model"]["iou"])
         if progress:
             progress(done, len(suite.cases))
     families = {name: family_scores(parts) for name, parts in per_family.items()}
+    groups = {group: {f: families[f] for f in families if suite.groups[f] == group}
+              for group in dict.fromkeys(suite.groups.values())}
     return {"suite": suite.version, "checkpoint": str(checkpoint), "families": families,
-            "mean": mean_over_families(families), "confidence": confidence_scores(np.concatenate(confidence),
-                                                                                   np.concatenate(iou)),
-            "probes": suite.probes}
+            "mean": mean_over_families(families),
+            "group_means": {group: mean_over_families(rows) for group, rows in groups.items()},
+            "confidence": confidence_scores(np.concatenate(confidence), np.concatenate(iou)),
+            "probes": suite.probes, "groups": suite.groups}
 
 
 class CaseScorer:
@@ -60,7 +62,7 @@ class CaseScorer:
     def score(self, case: SuiteCase, sensor_noise: Optional[dict[str, Any]]
               ) -> tuple[dict[str, dict[str, np.ndarray]], np.ndarray]:
         """Per-frame scores of every answer on one recording, and the model's confidence in each frame."""
-        from softarm.model.answers import score_answers
+        from softarm.model.answers import PRIVILEGED, score_answers, score_node_ridge
         from softarm.model.autoencoder import encode_frames
 
         reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing)
@@ -69,8 +71,11 @@ class CaseScorer:
         truth = reading.recording.frames[targets]
         ceiling = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, truth))
         prediction = imaginer.predict(reading.inputs)
-        scores = score_answers(imaginer, self.model.baselines, truth, prediction.latents, windows, ceiling,
-                               reading.recording.pixels_per_metre)
+        rec, baselines = reading.recording, self.model.baselines
+        scores = score_answers(imaginer, baselines, truth, prediction.latents, windows, ceiling, rec.pixels_per_metre)
+        if baselines.nodes is not None:
+            scores[PRIVILEGED] = score_node_ridge(imaginer, baselines, reading.inputs, targets, truth, rec.model,
+                                                  rec.pixels_per_metre)
         return scores, prediction.confidence
 
 

@@ -1,8 +1,8 @@
 """The suite's families: what motion each probes, at which levels, from which reserved seeds.
 
 A family is one question about the body image (does it hold beyond the paper's amplitude, its
-frequencies, band-limited noise, a pure sine below or at the arm's resonance, noisy sensors?); a level
-is one setting of it. Everything here is part of the suite's version: change a family, bump it.
+frequencies, band-limited noise, a pure sine below or at the arm's resonance, noisy sensors, pokes, a
+load, damage, contact?); a level is one setting of it. Everything here is part of the suite's version: change a family, bump it.
 Seeds from SUITE_SEED_BASE on belong to the suite; training refuses recordings made from them.
 """
 
@@ -11,7 +11,7 @@ from typing import Any
 
 from softarm.arm.drive import HELD_OUT_SEED_BASE
 
-SUITE_VERSION = "softarm-suite/1"
+SUITE_VERSION = "softarm-suite/2"
 SUITE_SEED_BASE = HELD_OUT_SEED_BASE  # seeds >= this are the suite's: training refuses their recordings
 DURATION = 20.0               # s per recording
 SEEDS_PER_LEVEL = 2
@@ -43,7 +43,7 @@ def sine(frequency: float, amplitude: float) -> dict[str, Any]:
             SUM + "phases": [0.0]}
 
 
-FAMILIES = (
+MOTION = (
     Family("paper_amplitude", "the paper's drive at its default amplitude and a smaller one: memorised shapes or the body?",
            (Level("A=4mm (default)", {}), Level("A=2.5mm", {"excitation.amplitude": 0.0025}))),
     Family("paper_frequency", "the paper's three-sine product with every frequency scaled: other rhythms, same kind",
@@ -64,6 +64,35 @@ FAMILIES = (
             Level("noise 20um + drift 20um/sqrt(s) + 10um steps", {},
                   {"noise": 2e-5, "drift": 2e-5, "quantisation": 1e-5}))),
 )
+
+
+def world(kind: str, **keys: Any) -> dict[str, Any]:
+    """The overrides of a level whose every arm draws one [[world.random]] spec (one disturbance unless `count`
+    says more), over the paper's drive."""
+    spec = {"kind": kind, "share": 1.0, "count": [1, 1], "start": [5.0, 12.0], "rows": [18, 18], **keys}
+    return {"world.random": [spec]}
+
+
+WORLD = (
+    Family("push", "pokes of random force, place and time: the world touches the arm, and nothing in the command says so",
+           (Level("light pokes (10-30 mN a node)", world("push", count=[3, 5], start=[2.0, 18.0], duration=[0.05, 0.15],
+                                                        force=[0.01, 0.03], rows=[9, 18])),
+            Level("firm pokes (30-80 mN a node)", world("push", count=[3, 5], start=[2.0, 18.0], duration=[0.05, 0.15],
+                                                       force=[0.03, 0.08], rows=[9, 18])))),
+    Family("payload", "a load on the tip row from a moment at 5-12 s on: a grasped object, heavier and slower",
+           (Level("5 g a tip node", world("payload", mass=[0.005, 0.005])),
+            Level("15 g a tip node", world("payload", mass=[0.015, 0.015])))),
+    Family("damage", "a two-row segment of springs softened from a moment at 5-12 s on: damage the body must feel",
+           (Level("k x0.5", world("stiffness", factor=[0.5, 0.5], rows=[4, 14], span=2)),
+            Level("k x0.3", world("stiffness", factor=[0.3, 0.3], rows=[4, 14], span=2)))),
+    Family("contact", "the swing meets a fixed disc from the start: contact stops and bends it",
+           (Level("beside the tip", world("obstacle", start=[0.0, 0.0], rows=[15, 18], radius=[0.01, 0.02],
+                                          gap=[0.003, 0.008])),
+            Level("beside the middle", world("obstacle", start=[0.0, 0.0], rows=[8, 12], radius=[0.01, 0.02],
+                                             gap=[0.002, 0.005])))),
+)
+FAMILIES = MOTION + WORLD  # softarm-suite/2: the motions of /1, then the world
+GROUPS = {**{f.name: "motion" for f in MOTION}, **{f.name: "world" for f in WORLD}}
 
 
 def level_seeds() -> list[tuple[Family, Level, int]]:

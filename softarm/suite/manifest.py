@@ -24,6 +24,7 @@ class Suite:
     version: str
     probes: dict[str, str]   # family -> what it probes
     cases: list[SuiteCase]
+    groups: dict[str, str]   # family -> "motion" (the drive's kinds) or "world" (disturbances)
 
     @property
     def families(self) -> list[str]:
@@ -46,6 +47,7 @@ def read_suite(folder: Union[str, Path]) -> Suite:
                  for family, body in families.items() for level, entry in body["levels"].items()
                  for name in entry["recordings"]]
         probes = {family: str(body["probes"]) for family, body in families.items()}
+        groups = {family: str(body.get("group", "motion")) for family, body in families.items()}
     except (json.JSONDecodeError, KeyError, TypeError, AttributeError, ValueError):
         raise RecordingError(f"{path} is not a suite manifest: write it again with softarm suite {folder} --force") from None
     empty = sorted(set(probes) - {c.family for c in cases})
@@ -55,4 +57,4 @@ def read_suite(folder: Union[str, Path]) -> Suite:
     if missing:
         raise RecordingError(f"{folder} lacks {len(missing)} of the suite's recordings (first: {missing[0]}): "
                              f"write it again with softarm suite {folder} --force")
-    return Suite(version, probes, cases)
+    return Suite(version, probes, cases, groups)

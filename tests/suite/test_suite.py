@@ -79,7 +79,7 @@ def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, 
     assert document["suite"] == SUITE_VERSION and set(document["families"]) == {"paper_amplitude", "sensor_noise"}
     for row in document["families"].values():
         assert row["frames"] in (2 * 1994, 3 * 1994)  # per level, every frame after the first 6-sample window
-        assert set(row["baselines"]) == {"mean_frame", "ridge", "ae_ceiling"}
+        assert set(row["baselines"]) == {"mean_frame", "ridge", "ae_ceiling", "ridge_nodes"}
         floor, ceiling = row["baselines"]["mean_frame"]["iou"], row["baselines"]["ae_ceiling"]["iou"]
         assert row["skill"] == pytest.approx((row["iou"] - floor) / (ceiling - floor))
         for scores in (row, *row["baselines"].values()):
