@@ -27,7 +27,7 @@ from bench.c_reference import CReference, find_compiler
 from softarm.arm.batch import arm_batch
 from softarm.arm.camera import world_to_pixel
 from softarm.arm.reference import simulate_reference
-from softarm.config import load_config
+from softarm.config import load_config, override
 from softarm.sim.budget import MAX_BLOCK_FRAMES
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
@@ -68,6 +68,26 @@ def physics_rows(config, quick: bool) -> list[dict]:
         rows.append(row(f"physics, {arms} arm{'s' if arms > 1 else ''}", rate, numpy_rate,
                         "spring updates/s", "NumPy reference (float64, arms one after another)"))
     return rows
+
+
+def disturbance_rows(config, quick: bool) -> list[dict]:
+    """64 arms with one disturbance of each kind, all four active the whole time, against the same arms without
+    any (whose kernel is compiled without their code): what the world costs when it acts."""
+    world = [{"kind": "push", "start": 0.0, "force": [0.01, 0.0], "nodes": [54, 55, 56]},
+             {"kind": "payload", "start": 0.0, "mass": 0.005, "nodes": [54, 55, 56]},
+             {"kind": "stiffness", "start": 0.0, "factor": 0.5, "springs": list(range(40, 60))},
+             {"kind": "obstacle", "start": 0.0, "centre": [0.05, -0.15], "radius": 0.02}]
+    blocks = 1 if quick else 5
+    rates = []
+    for tables in (world, []):
+        c = override(config, {"disturbances": tables})
+        sim = Simulator.from_config(c, arm_batch(c, seeds=range(64)))
+        sim.step_block(1)  # compile (or load from the offline cache) outside the timing
+        rates.append(64 * blocks * 100 * c.integration.substeps * len(sim.body.springs)
+                     / best_of(3, lambda: [sim.step_block(100) for _ in range(blocks)]))
+        sim.close()
+    return [row("physics, 64 arms, every kind of disturbance acting", rates[0], rates[1], "spring updates/s",
+                "the same arms undisturbed")]
 
 
 def c_reference_rows(config, quick: bool) -> list[dict]:
@@ -209,7 +229,8 @@ def main() -> None:
     args = ap.parse_args()
     init_taichi("cpu")
     config = load_config()
-    rows = (physics_rows(config, args.quick) + c_reference_rows(config, args.quick) + raster_rows(config, args.quick)
+    rows = (physics_rows(config, args.quick) + disturbance_rows(config, args.quick) + c_reference_rows(config, args.quick)
+            + raster_rows(config, args.quick)
             + end_to_end_rows(args.quick) + batch_rows(config, args.quick))
     table = to_markdown(rows) + "\n\n" + stage_table(args.quick)
     print(f"machine: {machine()}\n\n{table}")

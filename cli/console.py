@@ -1,6 +1,8 @@
 """Where the command line speaks: `out` (results, and progress lines when it is a log) and `err` (errors,
 warnings, progress bars), and the one rule that turns a user's mistake into one line and exit code 1."""
 
+import os
+import sys
 import warnings
 from typing import Callable, TypeVar
 
@@ -9,8 +11,18 @@ from rich.console import Console
 
 from softarm.errors import SoftarmError
 
-err = Console(stderr=True, highlight=False, soft_wrap=True)
-out = Console(highlight=False, soft_wrap=True)
+LOG_WIDTH = 200  # columns of a stream that is no terminal (a log): tables keep every column whole there
+
+
+def console(stderr: bool) -> Console:
+    """A terminal's own width; a log's LOG_WIDTH (rich would cut tables at 80), unless COLUMNS says otherwise."""
+    stream = sys.stderr if stderr else sys.stdout
+    width = None if "COLUMNS" in os.environ or (hasattr(stream, "isatty") and stream.isatty()) else LOG_WIDTH
+    return Console(stderr=stderr, highlight=False, soft_wrap=True, width=width)
+
+
+err = console(stderr=True)
+out = console(stderr=False)
 T = TypeVar("T")
 
 

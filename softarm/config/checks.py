@@ -3,11 +3,12 @@
 import math
 from typing import Any
 
-from softarm.config.schema import Config, ExcitationConfig, SensingConfig
+from softarm.config.schema import Config, ExcitationConfig, SensingConfig, TrainConfig
 from softarm.errors import ConfigError
 
 INTEGRATORS = ("symplectic_euler",)
 EXCITATION_KINDS = ("product_of_sines", "sum_of_sines")
+PRECISIONS = ("auto", "fp32", "bf16")  # train.precision: softarm.learn.precision
 MAX_SEED = 2**32 - 1
 
 
@@ -45,7 +46,10 @@ def check_ranges(c: Config) -> None:
     _require(r.arms >= 1, "run.arms", r.arms, "must be >= 1")
     _require(0 <= r.seed <= MAX_SEED - (r.arms - 1), "run.seed", r.seed,
              f"must be in 0..{MAX_SEED - (r.arms - 1)} (seeds are 32-bit; arm i of run.arms = {r.arms} uses run.seed + i)")
-    t = c.train
+    _check_train(c.train)
+
+
+def _check_train(t: TrainConfig) -> None:
     _require(0 < t.train_fraction < 1, "train.train_fraction", t.train_fraction, "must be in (0, 1)")
     _require(0 < t.test_fraction and t.train_fraction + t.test_fraction < 1, "train.test_fraction",
              t.test_fraction, "must be > 0 and leave room for the imagination segment")
@@ -60,6 +64,8 @@ def check_ranges(c: Config) -> None:
         _require(getattr(t, key) > 0, f"train.{key}", getattr(t, key), "must be > 0")
     _require(0 <= t.min_feature_std < 1, "train.min_feature_std", t.min_feature_std, "must be in [0, 1)")
     _require(0 <= t.seed <= MAX_SEED, "train.seed", t.seed, f"must be in 0..{MAX_SEED} (seeds are 32-bit)")
+    _require(t.node_target >= 0, "train.node_target", t.node_target, "must be >= 0 (0: no node target)")
+    _require(t.precision in PRECISIONS, "train.precision", t.precision, f"must be one of {list(PRECISIONS)}")
 
 
 def _check_sensing(s: SensingConfig) -> None:

@@ -154,6 +154,8 @@ class TrainConfig:
     lstm_hidden: int
     min_feature_std: float
     seed: int
+    precision: str = "auto"
+    node_target: float = 0.0
 
     @property
     def lead(self) -> int:

@@ -17,6 +17,7 @@ import torch
 import torch.nn.functional as F
 
 from softarm.config import override
+from softarm.learn.precision import forward_precision
 from softarm.learn.train import schedules
 from softarm.learn.train_state import TrainState
 from softarm.model.registry import latent_model_class
@@ -36,14 +37,21 @@ def fit_to_minutes(state: TrainState, minutes: float, spent: float) -> None:
                                            "train.max_steps_lstm": max(1, math.floor(latent.total * scale))})
 
 
-def _seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor]) -> float:
-    """Seconds of one forward and backward pass; the model's weights and statistics are left as they were."""
+def _seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor], precision: str) -> float:
+    """Seconds of one forward and backward pass, the forward in the training's precision; the model's weights
+    and statistics are left as they were."""
     saved = copy.deepcopy(model.state_dict())  # batch normalisation updates its running statistics in training mode
     model.train()
-    loss().backward()  # warm up
+
+    def step() -> None:
+        with forward_precision(precision):
+            value = loss()
+        value.backward()
+
+    step()  # warm up
     start = time.perf_counter()
     for _ in range(PROBE_STEPS):
-        loss().backward()
+        step()
     seconds = (time.perf_counter() - start) / PROBE_STEPS
     model.zero_grad(set_to_none=True)
     model.load_state_dict(saved)
@@ -52,8 +60,8 @@ def _seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor]) 
 
 def _autoencoder_step(state: TrainState) -> float:
     frames = torch.from_numpy(state.data.frames("train")[:state.config.train.batch_ae]).float()
-    return _seconds_per_step(state.autoencoder, lambda: F.binary_cross_entropy_with_logits(state.autoencoder(frames),
-                                                                                         frames))
+    loss = lambda: F.binary_cross_entropy_with_logits(state.autoencoder(frames), frames)  # noqa: E731
+    return _seconds_per_step(state.autoencoder, loss, state.config.train.precision)
 
 
 def _latent_step(state: TrainState) -> float:
@@ -62,4 +70,4 @@ def _latent_step(state: TrainState) -> float:
     model = latent_model_class(t.model)
     network = model(features, t.latent, t)
     batch = model.dummy_batch(t, features)
-    return _seconds_per_step(network, lambda: network(batch)[0].square().mean())
+    return _seconds_per_step(network, lambda: network(batch)[0].float().square().mean(), t.precision)

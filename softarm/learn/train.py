@@ -20,6 +20,7 @@ import torch.nn.functional as F
 
 from softarm.learn.evaluate import held_out_mse, imaginer_of
 from softarm.learn.observer import NoObserver, Progress, TrainingObserver
+from softarm.learn.precision import forward_precision
 from softarm.learn.train_state import TrainState
 from softarm.model.autoencoder import in_batches, reconstruct
 from softarm.model.latent import Step
@@ -87,10 +88,12 @@ def fit_autoencoder(state: TrainState, schedule: "Schedule", out: Path, observer
         batches = shuffled(len(frames), t.batch_ae, t.seed, 0, state.epoch)
         steps = (partial(ae_step, i) for i in batches)
         loss = run_epoch(state.autoencoder, state.ae_optimizer, steps, schedule, state.epoch, t.lr_ae, None,
-                         lambda i: report(state.epoch * schedule.steps_per_epoch + i, {}), stop)
+                         t.precision, lambda i: report(state.epoch * schedule.steps_per_epoch + i, {}), stop)
         if loss is None:
             return False
-        end_epoch(state, out, observer, report, loss, ae_test_loss(state, test))
+        with forward_precision(t.precision):  # a reported loss: it may round as the steps do
+            held_out = ae_test_loss(state, test)
+        end_epoch(state, out, observer, report, loss, held_out)
         show_clip(state, observer, imagination=False)
     return True
 
@@ -101,11 +104,14 @@ def fit_latent(state: TrainState, schedule: "Schedule", before: int, out: Path, 
     t, model = state.config.train, state.latent
     epoch_steps = model.epoch(state.training_series(), lambda items, epoch: epoch_order(items, t.seed, 1, epoch))
     while state.epoch < schedule.epochs:
+        stepped = lambda i: report(before + state.epoch * schedule.steps_per_epoch + i, {})  # noqa: E731
         loss = run_epoch(model, state.latent_optimizer, epoch_steps(state.epoch), schedule, state.epoch, t.lr_lstm,
-                         model.clip_norm, lambda i: report(before + state.epoch * schedule.steps_per_epoch + i, {}), stop)
+                         model.clip_norm, t.precision, stepped, stop)
         if loss is None:
             return False
-        end_epoch(state, out, observer, report, loss, held_out_mse(imaginer_of(state), state.data, state.codes()))
+        with forward_precision(t.precision):
+            held_out = held_out_mse(imaginer_of(state), state.data, state.codes())
+        end_epoch(state, out, observer, report, loss, held_out)
         if state.epoch % 10 == 0 or state.epoch == schedule.epochs:
             show_clip(state, observer, imagination=True)
     return True
@@ -115,11 +121,12 @@ StepLoss = tuple[torch.Tensor, float, int]  # (loss to minimise, loss to report,
 
 
 def run_epoch(network: torch.nn.Module, optimizer: torch.optim.Optimizer, steps: Iterable[Step], schedule: Schedule,
-              epoch: int, base_lr: float, clip_norm: Optional[float], stepped: Callable[[int], None],
+              epoch: int, base_lr: float, clip_norm: Optional[float], precision: str, stepped: Callable[[int], None],
               stop: Callable[[], bool]) -> Optional[float]:
     """One epoch of either network (cut where the schedule ends): its mean reported loss, or None when
-    `stop()` interrupted it. `clip_norm` bounds the gradient norm (recurrent nets need it); `stepped(i)`
-    hears of every step."""
+    `stop()` interrupted it. `clip_norm` bounds the gradient norm (recurrent nets need it); each forward pass
+    runs in `precision` (`softarm.learn.precision`), the backward pass outside it; `stepped(i)` hears of every
+    step."""
     params = [p for group in optimizer.param_groups for p in group["params"]]
     network.train()
     total, seen = 0.0, 0
@@ -129,7 +136,8 @@ def run_epoch(network: torch.nn.Module, optimizer: torch.optim.Optimizer, steps:
             break
         for group in optimizer.param_groups:
             group["lr"] = cosine_lr(base_lr, step, schedule.total)
-        loss, reported, items = step_loss()
+        with forward_precision(precision):
+            loss, reported, items = step_loss()
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         if clip_norm is not None:

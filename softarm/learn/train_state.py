@@ -19,6 +19,7 @@ from softarm.corpus.manifest import MIN_CORPUS
 from softarm.errors import CheckpointError
 from softarm.learn.codes import LatentCodes
 from softarm.learn.dataset import Dataset, load_dataset
+from softarm.learn.node_targets import node_outputs, node_targets
 from softarm.model.autoencoder import Autoencoder
 from softarm.model.baselines import Baselines
 from softarm.model.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
@@ -65,15 +66,19 @@ class TrainState:
         """The latent model and its optimiser, seeded on their own so that resume rebuilds the same network."""
         t = self.config.train
         torch.manual_seed(t.seed + 1)
-        self.latent = latent_model_class(t.model)(self.inputs.features, self.latent_scaler.kept, t)
+        self.latent = latent_model_class(t.model)(self.inputs.features, self.latent_scaler.kept, t,
+                                                  node_outputs(self.data, t.node_target))
         self.latent_optimizer = torch.optim.Adam(self.latent.parameters(), lr=t.lr_lstm)
 
     def training_series(self) -> list[TrainingSeries]:
-        """Every recording's normalised inputs and target latents, as the latent model trains on them."""
-        codes = self.codes()
-        return [TrainingSeries(self.inputs.normalise(seq.inputs).astype(np.float32),
-                               self.latent_scaler.forward(codes.recording(n)).astype(np.float32), seq.segment("train")[1])
-                for n, seq in enumerate(self.data.sequences)]
+        """Every recording's normalised inputs and targets (the latent, then the node positions where the model
+        has a node head), as the latent model trains on them."""
+        codes, data = self.codes(), self.data
+        targets = [self.latent_scaler.forward(codes.recording(n)).astype(np.float32) for n in range(len(data.sequences))]
+        if self.latent.nodes is not None:
+            targets = [np.concatenate([t, nodes], axis=1) for t, nodes in zip(targets, node_targets(data))]
+        return [TrainingSeries(self.inputs.normalise(seq.inputs).astype(np.float32), target, seq.segment("train")[1])
+                for seq, target in zip(data.sequences, targets)]
 
     def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None,
                       baselines: Optional[Baselines] = None) -> dict[str, Any]:

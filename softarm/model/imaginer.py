@@ -43,8 +43,9 @@ class Imaginer:
             raise CheckpointError("the checkpoint's scalers are damaged: train it again") from None
         if inputs.features <= 0 or latent_scaler.kept <= 0 or len(latent_scaler.mean) != t.latent:
             raise CheckpointError("the checkpoint's scalers do not fit its networks: train it again")
+        nodes = node_head_outputs(state["latent_model"])
         networks = {"autoencoder": lambda: Autoencoder(*state["image_shape"], t.latent),
-                    "latent_model": lambda: latent_model_class(t.model)(inputs.features, latent_scaler.kept, t)}
+                    "latent_model": lambda: latent_model_class(t.model)(inputs.features, latent_scaler.kept, t, nodes)}
         autoencoder, latent = (loaded(make, state[key]) for key, make in networks.items())
         autoencoder.eval()
         latent.eval()
@@ -101,3 +102,9 @@ def loaded(make: Callable[[], torch.nn.Module], weights: dict[str, torch.Tensor]
     except (RuntimeError, TypeError, ValueError) as e:
         raise CheckpointError(f"the checkpoint's weights do not fit this softarm's networks: {first_line(e)}") from None
     return network
+
+
+def node_head_outputs(weights: Any) -> int:
+    """The outputs of a latent model's node head in its weights (`train.node_target`), 0 when it has none."""
+    head = weights.get("nodes.weight") if isinstance(weights, dict) else None
+    return int(head.shape[0]) if isinstance(head, torch.Tensor) and head.dim() == 2 else 0

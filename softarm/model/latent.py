@@ -26,9 +26,10 @@ Order = Callable[[int, int], torch.Tensor]    # (items, epoch) -> that epoch's s
 
 @dataclass(frozen=True)
 class TrainingSeries:
-    """One recording as a latent model trains on it: every frame's normalised inputs and target latent."""
+    """One recording as a latent model trains on it: every frame's normalised inputs and targets, the latent
+    and, where the model has a node head, the normalised node positions after it."""
     inputs: np.ndarray   # (T, P) float32
-    latents: np.ndarray  # (T, K) float32
+    latents: np.ndarray  # (T, K [+ A]) float32
     train_end: int       # the training segment is frames [0, train_end)
 
 
@@ -55,17 +56,29 @@ class ErrorHead(nn.Module):
 
 class LatentModel(nn.Module):
     """A recurrent layer (`core`), a linear head to the latent and an error head; its subclass says how it
-    reads a series, how it steps online and how an epoch of its training is cut."""
+    reads a series, how it steps online and how an epoch of its training is cut. With `nodes` > 0 a third
+    head learns the node positions from the same state (`train.node_target`): a training signal only, never
+    part of an answer."""
 
     core: ClassVar[type[nn.RNNBase]] = nn.LSTM
     clip_norm: ClassVar[Optional[float]] = None  # gradient norm at most while training (None: unclipped)
 
-    def __init__(self, inputs: int, outputs: int, train: TrainConfig):
+    def __init__(self, inputs: int, outputs: int, train: TrainConfig, nodes: int = 0):
         super().__init__()
         self.rnn = self.core(inputs, train.lstm_hidden, num_layers=1, batch_first=True)
         self.head = nn.Linear(train.lstm_hidden, outputs)
         self.error = ErrorHead(train.lstm_hidden, outputs)
+        self.nodes = nn.Linear(train.lstm_hidden, nodes) if nodes else None
         self.settings = train
+
+    def trained_loss(self, states: torch.Tensor, targets: torch.Tensor) -> StepLoss:
+        """The loss of the answers read from recurrent states (..., H) against targets (..., K [+ A]): the
+        latent's, plus `node_target` times the node head's mean squared error where the model has one."""
+        k = self.head.out_features
+        loss, reported, items = latent_loss(self.head(states), self.error(states), targets[..., :k])
+        if self.nodes is not None:
+            loss = loss + self.settings.node_target * F.mse_loss(self.nodes(states).float(), targets[..., k:])
+        return loss, reported, items
 
     @property
     def history(self) -> int:
@@ -114,7 +127,9 @@ class LatentModel(nn.Module):
 
 def latent_loss(mean: torch.Tensor, log_error: torch.Tensor, target: torch.Tensor) -> StepLoss:
     """Mean squared error of the latent, plus the Gaussian negative log-likelihood that teaches the error head
-    its own squared error (it reads detached states, so this term leaves the prediction alone)."""
+    its own squared error (it reads detached states, so this term leaves the prediction alone). Computed in fp32
+    whatever precision the forward pass ran in."""
+    mean, log_error = mean.float(), log_error.float()
     mse = F.mse_loss(mean, target)
     error = (mean.detach() - target).square()
     return mse + (log_error + error * torch.exp(-log_error)).mean(), mse.item(), len(target)

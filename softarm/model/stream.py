@@ -14,7 +14,7 @@ from torch import nn
 
 from softarm.config import TrainConfig
 from softarm.model import pieces
-from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries, detached, latent_loss
+from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries, detached
 from softarm.model.prediction import Prediction
 
 STREAMS = 64  # series read side by side when answering
@@ -46,6 +46,7 @@ class StreamModel(LatentModel):
         targets = np.arange(self.first_frame, series.shape[1])
         latents, log_error, _ = self(torch.from_numpy(series))
         samples = targets - self.lead
+        latents, log_error = latents.float(), log_error.float()  # a bf16 pass (training's validation) too
         return [Prediction(targets, latents[s, samples].numpy(), log_error[s, samples].numpy())
                 for s in range(len(series))]
 
@@ -77,9 +78,9 @@ class StreamModel(LatentModel):
     def _chunk_step(self, carried: list[Any], samples: torch.Tensor, targets: torch.Tensor,
                     scored: torch.Tensor) -> StepLoss:
         """One chunk from the carried state, which it then replaces (detached: gradients stop here)."""
-        mean, log_error, state = self(samples, carried[0])
+        states, state = self.rnn(samples, carried[0])
         carried[0] = detached(state)
-        return latent_loss(mean[scored], log_error[scored], targets[scored])
+        return self.trained_loss(states[scored], targets[scored])
 
     @classmethod
     def dummy_batch(cls, train: TrainConfig, inputs: int) -> torch.Tensor:

@@ -11,7 +11,7 @@ import torch
 
 from softarm.config import TrainConfig
 from softarm.model.autoencoder import in_batches
-from softarm.model.latent import LatentModel, OnlineReader, Order, Step, TrainingSeries, latent_loss
+from softarm.model.latent import LatentModel, OnlineReader, Order, Step, TrainingSeries
 from softarm.model.prediction import Prediction
 from softarm.model.windows import input_windows, window_count
 
@@ -39,7 +39,7 @@ class WindowLSTM(LatentModel):
     def answer_windows(self, windows: np.ndarray, targets: np.ndarray) -> Prediction:
         """The answers for normalised windows (M, history, P) and the frames they imagine."""
         latents, log_error = in_batches(self, torch.from_numpy(windows))
-        return Prediction(targets, latents.numpy(), log_error.numpy())
+        return Prediction(targets, latents.float().numpy(), log_error.float().numpy())
 
     def online(self) -> OnlineReader:
         return WindowReader(self)
@@ -56,8 +56,8 @@ class WindowLSTM(LatentModel):
         y = torch.from_numpy(np.concatenate([s.latents[k] for s, (_, k) in zip(series, pairs)]))
 
         def step(index: torch.Tensor) -> tuple[torch.Tensor, float, int]:
-            mean, log_error = self(x[index])
-            return latent_loss(mean, log_error, y[index])
+            states, _ = self.rnn(x[index])
+            return self.trained_loss(states[:, -1], y[index])
 
         return lambda number: (partial(step, i) for i in torch.split(order(len(x), number), self.settings.batch_lstm))
 

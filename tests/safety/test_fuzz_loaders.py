@@ -16,6 +16,7 @@ from softarm.corpus.manifest import folder_recordings
 from softarm.model.trained import TrainedModel
 from softarm.record.reader import read_model, read_recording
 from softarm.study.plan import read_study
+from softarm.suite.families import SUITE_VERSION
 from softarm.suite.manifest import read_suite
 from tests.helpers.fuzz import damaged, json_bytes, refused_or_read, reshaped
 
@@ -91,7 +92,7 @@ def test_checkpoints_of_the_wrong_shape_are_read_or_refused(tiny_checkpoint, tmp
     fuzz(200, case)
 
 
-SUITE = {"suite": "softarm-suite/1", "families": {"paper": {"probes": "p", "levels": {
+SUITE = {"suite": SUITE_VERSION, "families": {"paper": {"probes": "p", "levels": {
     "x": {"overrides": {}, "sensing": {}, "seeds": [1], "recordings": ["a.mcap"]}}}}}
 CORPUS = {"preset": "paper", "arms": 1, "duration": 0.3,
           "groups": {"paper": {"overrides": {}, "recordings": ["a.mcap"], "seeds": [0]}}}

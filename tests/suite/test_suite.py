@@ -7,8 +7,18 @@ import shutil
 import numpy as np
 import pytest
 
+from softarm.config import load_config
 from softarm.record.reader import read_recording
-from softarm.suite.families import FAMILIES, SEED_BLOCK, SUITE_SEED_BASE, SUITE_VERSION, level_seeds
+from softarm.sim.run import simulate
+from softarm.suite.families import (
+    CANDIDATES,
+    DURATION,
+    FAMILIES,
+    SEED_BLOCK,
+    SUITE_SEED_BASE,
+    SUITE_VERSION,
+    level_seeds,
+)
 from softarm.suite.manifest import read_suite
 from tests.helpers.cli import assert_one_line_error, softarm
 
@@ -46,13 +56,19 @@ def test_the_suite_keeps_every_arm_in_view_and_uses_only_its_seeds(suite_folder)
     assert sorted(p.name for p in suite_folder.glob("*.mcap")) == sorted(c.path.name for c in suite.cases)
 
 
-def test_writing_the_suite_again_gives_the_same_files(suite_folder, tmp_path):
-    first = next(c for c in read_suite(suite_folder).cases if c.family == "multisine_broad")
-    result = softarm("suite", str(tmp_path), "-q", cwd=tmp_path, timeout=300)
-    assert result.returncode == 0, result.stderr
-    assert (tmp_path / first.path.name).read_bytes() == first.path.read_bytes()
-    assert (tmp_path / "suite.json").read_text() == (suite_folder / "suite.json").read_text()
-    again = softarm("suite", str(tmp_path), cwd=tmp_path)
+def test_a_level_simulated_again_gives_the_same_files_and_a_written_suite_is_refused(suite_folder, tmp_path):
+    """The same softarm writes the same bytes: one level re-simulated as `softarm suite` runs it (the whole suite
+    again would double this file's time)."""
+    family, level, seed = next(entry for entry in level_seeds() if entry[0].name == "multisine_broad")
+    stem = f"{family.name}_level{family.levels.index(level)}"
+    config = load_config(overrides={**level.overrides, "run.duration": DURATION, "run.seed": seed,
+                                    "run.arms": CANDIDATES})
+    simulate(config, tmp_path / f"{stem}.mcap")
+    entry = json.loads((suite_folder / "suite.json").read_text())["families"][family.name]["levels"][level.name]
+    assert len(entry["recordings"]) == 2
+    for name in entry["recordings"]:
+        assert (tmp_path / name).read_bytes() == (suite_folder / name).read_bytes()
+    again = softarm("suite", str(suite_folder), cwd=tmp_path)
     assert_one_line_error(again, "already holds a suite", "--force")
 
 
