@@ -105,3 +105,13 @@ def test_contact_and_stiffening_lower_the_stable_step():
     with pytest.raises(ConfigError, match="integration.substeps"):
         arm_batch(load_config(overrides={"disturbances": [harder]}))
     arm_batch(load_config(overrides={"disturbances": [{**harder, "factor": 0.1}]}))  # softening is always stable
+
+
+def test_a_batch_checks_each_arm_with_its_own_disturbances():
+    """Arms never touch one another: 64 arms, each with the same disc, are as stable as one of them (the check
+    once summed every arm's contacts and refused such a batch)."""
+    disc = {"kind": "obstacle", "start": 0.0, "centre": [0.05, -0.15], "radius": 0.02}
+    assert arm_batch(load_config(overrides={"disturbances": [disc]}), seeds=range(64)).arms == 64
+    stiff = {**disc, "stiffness": 2e6}
+    with pytest.raises(ConfigError, match="integration.substeps"):
+        arm_batch(load_config(overrides={"disturbances": [stiff]}), seeds=range(64))
