@@ -43,7 +43,9 @@ class Disturbance:
         return {"kind": self.kind, "start": self.start, "end": self.end, **self.parameters()}
 
     def parameters(self) -> dict[str, Any]:
-        raise NotImplementedError
+        """The kind's parameters under the names `keys` gives them (docs/model.md), tuples as lists."""
+        values = {key: getattr(self, key) for key in self.keys}
+        return {key: list(v) if isinstance(v, tuple) else v for key, v in values.items()}
 
     def forces(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         """(N, 2) N on every node while active, from the state (x, v)."""
@@ -60,6 +62,11 @@ class Disturbance:
     def slot(self, nodes: int, springs: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(PARAMETERS,) parameters, (N,) nodes and (S,) springs it touches, as the simulator reads them."""
         return np.zeros(PARAMETERS), np.zeros(nodes, np.int32), np.zeros(springs, np.int32)
+
+
+def _row(spec: Any, rng: np.random.Generator) -> int:
+    """A row drawn from a [[world.random]] spec's inclusive `rows` range."""
+    return int(rng.integers(spec.rows[0], spec.rows[1] + 1))
 
 
 def _mask(indices: tuple[int, ...], count: int) -> np.ndarray:
@@ -85,10 +92,7 @@ class Push(Disturbance):
         """A poke of one row's nodes in a random direction."""
         magnitude, angle = rng.uniform(*spec.force), rng.uniform(0, 2 * np.pi)
         force = (float(magnitude * np.cos(angle)), float(magnitude * np.sin(angle)))
-        return cls(start, end, force, places.row(int(rng.integers(spec.rows[0], spec.rows[1] + 1))))
-
-    def parameters(self) -> dict[str, Any]:
-        return {"force": list(self.force), "nodes": list(self.nodes)}
+        return cls(start, end, force, places.row(_row(spec, rng)))
 
     def forces(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         out = np.zeros_like(x)
@@ -115,10 +119,7 @@ class Payload(Disturbance):
     @classmethod
     def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float], places: Places) -> "Payload":
         """A load on one row's nodes (a grasped object on the tip row)."""
-        return cls(start, end, float(rng.uniform(*spec.mass)), places.row(int(rng.integers(spec.rows[0], spec.rows[1] + 1))))
-
-    def parameters(self) -> dict[str, Any]:
-        return {"mass": self.mass, "nodes": list(self.nodes)}
+        return cls(start, end, float(rng.uniform(*spec.mass)), places.row(_row(spec, rng)))
 
     def extra_mass(self, nodes: int) -> np.ndarray:
         return self.mass * _mask(self.nodes, nodes).astype(float)
@@ -143,11 +144,8 @@ class Stiffness(Disturbance):
     @classmethod
     def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float], places: Places) -> "Stiffness":
         """Every spring of a segment `span` rows long, from a random row."""
-        first = int(rng.integers(spec.rows[0], spec.rows[1] + 1))
+        first = _row(spec, rng)
         return cls(start, end, float(rng.uniform(*spec.factor)), places.segment(first, spec.span or 2))
-
-    def parameters(self) -> dict[str, Any]:
-        return {"factor": self.factor, "springs": list(self.springs)}
 
     def stiffness_factor(self, springs: int) -> np.ndarray:
         return np.where(_mask(self.springs, springs) > 0, self.factor, 1.0)
@@ -181,16 +179,12 @@ class Obstacle(Disturbance):
     @classmethod
     def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float], places: Places) -> "Obstacle":
         """A disc beside a row, `gap` from the arm's resting edge there, on a random side: the swing meets it."""
-        row, side = int(rng.integers(spec.rows[0], spec.rows[1] + 1)), 1 if rng.random() < 0.5 else -1
+        row, side = _row(spec, rng), 1 if rng.random() < 0.5 else -1
         radius, gap = float(rng.uniform(*spec.radius)), float(rng.uniform(*spec.gap))
         edge = places.edge(row, side)
         centre = (float(edge[0] + side * (gap + radius)), float(edge[1]))
         world = places.world
         return cls(start, end, centre, radius, world.contact_stiffness, world.contact_damping)
-
-    def parameters(self) -> dict[str, Any]:
-        return {"centre": list(self.centre), "radius": self.radius, "stiffness": self.stiffness,
-                "damping": self.damping}
 
     def forces(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Penalty contact on every node inside the disc, along the outward normal (never pulling)."""
