@@ -8,6 +8,7 @@ import typer
 from softarm_cli.console import out
 from softarm_cli.demo import demo
 from softarm_cli.imagination import evaluate, replay
+from softarm_cli.real import import_log, robot_log
 from softarm_cli.recording import corpus, sim, suite
 from softarm_cli.study import study
 from softarm_cli.training import train
@@ -45,6 +46,8 @@ def config() -> None:
 
 for command in (sim, train, replay, corpus, suite, evaluate, demo, study):
     app.command()(command)
+app.command("import")(import_log)
+app.command("robot-log")(robot_log)
 
 if __name__ == "__main__":
     sys.exit(app())

@@ -56,26 +56,27 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     imagined[targets] = probs
     predicted = np.zeros(len(rec.times), bool)
     predicted[targets] = True
+    scored = predicted & rec.seen  # a camera's gap has nothing to score against
     confidence = np.full(len(rec.times), np.nan)
     confidence[targets] = prediction.confidence
     fused = rec.frames.astype(np.float32)
     fused[mask] = imagined[mask]
     M = rec.world_to_pixel
     imagination = frame_scores(imagined, rec.frames, rec.pixels_per_metre)
-    iou = np.where(predicted, imagination["iou"], np.nan)
+    iou = np.where(scored, imagination["iou"], np.nan)
     last = rec.times >= rec.times[-1] - 5.0 + 1e-9  # the paper's last 5 s
     metrics = {
         "recording": str(rec.path), "frames": int(len(rec.times)), "predicted_frames": int(predicted.sum()),
         "blind_frames": int(mask.sum()), "sensing": reading.config.to_dict()["sensing"],
-        **{key: summarise(imagination, predicted & subset) if (predicted & subset).any() else None
+        **{key: summarise(imagination, scored & subset) if (scored & subset).any() else None
            for key, subset in (("imagination", predicted), ("imagination_last_5s", last),
                                ("imagination_blind", mask), ("imagination_seeing", ~mask))},
-        "fused": summarise(fused_scores(imagination, rec.frames, mask)),
+        "fused": summarise(fused_scores(imagination, rec.frames, mask), rec.seen),
         "confidence": {"mean": float(prediction.confidence.mean()),
-                       "spearman_with_iou": spearman(prediction.confidence, iou[targets])},
+                       "spearman_with_iou": spearman(prediction.confidence[rec.seen[targets]], iou[scored])},
     }
     return Replay(recording=rec, checkpoint=model.path, inputs=reading.inputs,
                   channels=[(c.name, w) for c, w in zip(model.imaginer.inputs.channels, model.imaginer.inputs.widths)],
                   imagined=imagined, predicted=predicted, iou=iou, confidence=confidence, blind=mask, fused=fused,
                   metrics=metrics,
-                  nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if nodes else None)
+                  nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if rec.positions is not None else None)

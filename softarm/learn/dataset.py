@@ -36,6 +36,7 @@ class RunData:
     bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
     held_out: bool = False      # a validation recording: nothing of it trains (b0 = 0)
     positions: Optional[np.ndarray] = None  # (T, N, 2) float32 node positions (m), where the recording has them
+    seen: Optional[np.ndarray] = None  # (T,) bool: frames the camera has (None: all); gaps train and score nothing
 
     def segment(self, name: str) -> tuple[int, int]:
         b0, b1 = self.bounds
@@ -48,6 +49,7 @@ class Dataset:
     channels: tuple[InputChannel, ...]
     widths: list[int]              # features of each channel
     cache: Optional[Path] = None   # where frames live on disk (memory-mapped), if anywhere
+    pixels_per_metre: float = float("nan")  # the cameras' scale for tip errors in mm (NaN: not known for all)
     _segments: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -58,6 +60,8 @@ class Dataset:
         """(M, H, W) uint8 frames of a segment, all recordings in order: a view for one recording, else one
         array made once (on disk, memory-mapped, when the dataset has a cache)."""
         parts = [s.frames[slice(*s.segment(segment))] for s in self.sequences]
+        if any(s.seen is not None for s in self.sequences):  # a camera's gaps are no training or test frames
+            parts = [p if s.seen is None else p[s.seen[slice(*s.segment(segment))]] for p, s in zip(parts, self.sequences)]
         if len(parts) == 1:
             return parts[0]
         if segment not in self._segments:
@@ -77,6 +81,20 @@ class Dataset:
         if not sum(map(len, inputs)):
             raise RecordingError(f"the {segment} segment is shorter than a history of {history} samples")
         return np.concatenate(inputs), np.concatenate(targets)
+
+    def seen(self, targets: np.ndarray) -> np.ndarray:
+        """(M,) bool: which (recording, frame) targets (M, 2) the camera has, so that scores ignore its gaps."""
+        out = np.ones(len(targets), bool)
+        for n, seq in enumerate(self.sequences):
+            if seq.seen is not None:
+                chosen = targets[:, 0] == n
+                out[chosen] = seq.seen[targets[chosen, 1]]
+        return out
+
+    def seen_frames(self, segment: str) -> np.ndarray:
+        """(M,) bool over every frame of a segment, all recordings in order: the camera has it."""
+        return np.concatenate([np.ones(b - a, bool) if s.seen is None else s.seen[a:b]
+                               for s, (a, b) in ((s, s.segment(segment)) for s in self.sequences)])
 
     def count(self, segment: str) -> int:
         """Frames of a segment, all recordings."""
@@ -107,7 +125,7 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
     if not paths:
         raise RecordingError("give at least one recording")
     train, channels = config.train, tuple(channels)
-    sequences, first = [], None
+    sequences, first, scales = [], None, set()
     held_out = validation_indices(len(paths), train.validation_recordings)
     for path in map(Path, paths):
         if stop():
@@ -122,14 +140,16 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
         seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=frames,
                       inputs=read_channels(channels, rec, config).astype(np.float32), times=rec.times,
                       bounds=(0, bounds[1]) if validation else bounds, held_out=validation,
-                      positions=rec.positions.astype(np.float32))
+                      positions=None if rec.positions is None else rec.positions.astype(np.float32),
+                      seen=rec.seen if not rec.seen.all() else None)
         shape = recording_shape(rec.model, channels, config)
         if first is None:
             first = (path.name, shape)
         check_fits(seq.name, shape, first[1], channels, first[0])
         check_segments(seq, train)
         sequences.append(seq)
-    return Dataset(sequences, channels, list(first[1][1]), cache)
+        scales.add(config.camera.pixels_per_metre if not rec.imported else float("nan"))
+    return Dataset(sequences, channels, list(first[1][1]), cache, scales.pop() if len(scales) == 1 else float("nan"))
 
 
 def validation_indices(count: int, share: float) -> set[int]:

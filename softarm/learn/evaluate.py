@@ -42,7 +42,9 @@ def segment_prediction(imaginer: Imaginer, data: Dataset, segment: str) -> Predi
 def held_out_mse(imaginer: Imaginer, data: Dataset, codes: LatentCodes) -> float:
     """Mean squared error of the normalised latent over the test segment (the held-out recordings whole)."""
     prediction = segment_prediction(imaginer, data, "test")
-    return float(np.mean((prediction.latents - imaginer.latent_scaler.forward(codes.of(prediction.targets))) ** 2))
+    seen = data.seen(prediction.targets)
+    errors = prediction.latents[seen] - imaginer.latent_scaler.forward(codes.of(prediction.targets)[seen])
+    return float(np.mean(errors ** 2))
 
 
 def fit_baselines(state: TrainState) -> Baselines:
@@ -65,7 +67,7 @@ def evaluate(state: TrainState, baselines: Baselines) -> dict[str, Any]:
     imagination, imagine_mse = scored_answers(state, baselines, imaginer, "imagine")
     metrics = {
         "autoencoder_test": image_scores(reconstruct(state.autoencoder, test_frames), test_frames,
-                                         state.config.camera.pixels_per_metre),
+                                         data.pixels_per_metre),
         "latent_mse": {"test": held_out_mse(imaginer, data, state.codes()), "imagine": imagine_mse},
         "imagination": imagination,
         "counts": {"train_frames": data.count("train"), "test_frames": int(len(test_frames)),
@@ -88,9 +90,10 @@ def scored_answers(state: TrainState, baselines: Baselines, imaginer: Imaginer, 
     windows, targets = data.windows(segment, t.history, t.lead)
     prediction = segment_prediction(imaginer, data, segment)
     chosen = np.isin(targets[:, 0], recordings) if recordings is not None else np.ones(len(targets), bool)
+    chosen &= data.seen(targets)  # the camera's gaps are not scored
     keep = np.flatnonzero(chosen)[evenly(int(chosen.sum()), MAX_SCORED)]
     windows, targets, predicted = windows[keep], targets[keep], prediction.latents[keep]
     true_latent = imaginer.latent_scaler.forward(state.codes().of(targets))
     scores = score_answers(imaginer, baselines, data.target_frames(targets), predicted, state.inputs.normalise(windows),
-                           true_latent, state.config.camera.pixels_per_metre)
+                           true_latent, data.pixels_per_metre)
     return {name: summarise(per_frame) for name, per_frame in scores.items()}, float(np.mean((predicted - true_latent) ** 2))

@@ -58,7 +58,7 @@ class TrainState:
         """Drop latent features constant over the training frames; normalise latents and every input channel
         with training statistics."""
         data = self.data
-        self.latent_scaler = Scaler.fit(self.codes().segment(data, "train"), self.config.train.min_feature_std)
+        self.latent_scaler = Scaler.fit(self.codes().segment(data, "train")[data.seen_frames("train")], self.config.train.min_feature_std)
         training = np.concatenate([s.inputs[slice(*s.segment("train"))] for s in data.sequences])
         self.inputs = Inputs.fit(data.channels, data.widths, training)
 
@@ -77,8 +77,8 @@ class TrainState:
         targets = [self.latent_scaler.forward(codes.recording(n)).astype(np.float32) for n in range(len(data.sequences))]
         if self.latent.nodes is not None:
             targets = [np.concatenate([t, nodes], axis=1) for t, nodes in zip(targets, node_targets(data))]
-        return [TrainingSeries(self.inputs.normalise(seq.inputs).astype(np.float32), target, seq.segment("train")[1])
-                for seq, target in zip(data.sequences, targets)]
+        return [TrainingSeries(self.inputs.normalise(seq.inputs).astype(np.float32), target, seq.segment("train")[1],
+                               seq.seen) for seq, target in zip(data.sequences, targets)]
 
     def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None,
                       baselines: Optional[Baselines] = None) -> dict[str, Any]:

@@ -65,7 +65,7 @@ class Drive(InputChannel):
         return 1
 
     def read(self, recording: "Recording", config: Config) -> np.ndarray:
-        return np.asarray(recording.displacement, np.float64)[:, None]
+        return np.asarray(recording.drive(), np.float64)[:, None]
 
 
 class DriveRate(InputChannel):
@@ -78,7 +78,7 @@ class DriveRate(InputChannel):
         return 1
 
     def read(self, recording: "Recording", config: Config) -> np.ndarray:
-        d = np.asarray(recording.displacement, np.float64)
+        d = np.asarray(recording.drive(), np.float64)
         return np.concatenate([[0.0], np.diff(d)])[:, None] / recording.frame_dt
 
 

@@ -31,6 +31,7 @@ class TrainingSeries:
     inputs: np.ndarray   # (T, P) float32
     latents: np.ndarray  # (T, K [+ A]) float32
     train_end: int       # the training segment is frames [0, train_end)
+    seen: Optional[np.ndarray] = None  # (T,) bool: frames the camera has (None: all); a gap is never a target
 
 
 class OnlineReader:

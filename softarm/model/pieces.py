@@ -87,4 +87,6 @@ def _group(series: Sequence[TrainingSeries], part: list[Piece], lead: int) -> Gr
         samples[g, :size] = s.inputs[p.start:p.end]
         targets[g, :size] = s.latents[p.start + lead:p.end + lead]
         scored[g, p.scored - p.start:size] = True
+        if s.seen is not None:  # a camera's gap is no target
+            scored[g, :size] &= s.seen[p.start + lead:p.end + lead]
     return Group(torch.from_numpy(samples), torch.from_numpy(targets), torch.from_numpy(scored))

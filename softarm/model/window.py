@@ -52,6 +52,7 @@ class WindowLSTM(LatentModel):
     def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:
         """Shuffled batches of (window, latent of the frame it imagines) pairs of every training segment."""
         pairs = [input_windows(s.inputs, self.history, self.lead, 0, s.train_end) for s in series]
+        pairs = [(w, k) if s.seen is None else (w[s.seen[k]], k[s.seen[k]]) for s, (w, k) in zip(series, pairs)]
         x = torch.from_numpy(np.concatenate([w for w, _ in pairs]))
         y = torch.from_numpy(np.concatenate([s.latents[k] for s, (_, k) in zip(series, pairs)]))
 

@@ -2,11 +2,12 @@
 relies on, so that a damaged or foreign document is refused in one line instead of failing deep inside."""
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from softarm.errors import RecordingError
+from softarm.record.format import IMPORTED
 
 MAX_PIXELS = 1 << 26  # per frame: a larger camera in a document is damage, not a camera
 
@@ -22,6 +23,8 @@ def check_model(model: Any, path: Path) -> dict[str, Any]:
     require(isinstance(camera, dict), "no camera")
     height, width = camera.get("height"), camera.get("width")
     require(_int(height) and _int(width) and 0 < height * width <= MAX_PIXELS and height > 0, "camera size")
+    if model.get("kind") == IMPORTED:
+        return _check_imported(model, require)
     require(_numbers(camera.get("world_to_pixel"), (2, 3)), "camera map")
     nodes = model.get("nodes")
     require(_numbers(nodes, (None, 2)) and len(nodes) > 0, "nodes")
@@ -32,6 +35,18 @@ def check_model(model: Any, path: Path) -> dict[str, Any]:
     require(isinstance(model.get("excitation", {}), dict), "excitation")
     disturbances = model.get("disturbances", [])
     require(isinstance(disturbances, list) and all(isinstance(d, dict) for d in disturbances), "disturbances")
+    return model
+
+
+def _check_imported(model: dict[str, Any], require: Callable[[bool, str], None]) -> dict[str, Any]:
+    """A robot log's recording: a camera without a known map, named sensors, a frame grid and its gaps."""
+    sensors = model.get("sensors")
+    require(isinstance(sensors, list) and len(sensors) > 0 and all(isinstance(s, str) for s in sensors), "sensors")
+    frame_dt = model.get("frame_dt")
+    require(isinstance(frame_dt, (int, float)) and not isinstance(frame_dt, bool) and 0 < frame_dt < 1e3, "frame_dt")
+    gaps = model.get("gaps", [])
+    require(isinstance(gaps, list) and all(_int(g) and g >= 0 for g in gaps), "gaps")
+    require(isinstance(model.get("source", {}), dict), "source")
     return model
 
 

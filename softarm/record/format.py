@@ -19,6 +19,8 @@ EXCITATION = "/arm/excitation"
 DISTURBANCE = "/arm/disturbance"
 TOPICS = (IMAGE, STRETCH, NODES, EXCITATION)  # in every version; /3 adds DISTURBANCE
 
+IMPORTED = "imported"  # the model document's `kind` of a recording imported from a robot's log (no nodes)
+
 POSITION_DECIMALS = 9  # node positions are written to the nanometre
 
 

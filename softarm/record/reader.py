@@ -7,16 +7,15 @@ wrong (missing, empty, foreign or newer file) raises `RecordingError` with a one
 """
 
 import warnings
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Optional, Union
 
 import numpy as np
 import orjson
-from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
 from mcap.records import Channel, Message, Metadata
 
 from softarm.errors import RecordingError
+from softarm.record.decode import mono8_image, signal_values
 from softarm.record.document import check_model
 from softarm.record.format import (
     DISTURBANCE,
@@ -25,61 +24,35 @@ from softarm.record.format import (
     FORMAT_NAME,
     FORMAT_VERSION_NUMBER,
     IMAGE,
+    IMPORTED,
     META_MODEL,
     META_RUN,
     NODES,
     STRETCH,
     TOPICS,
 )
+from softarm.record.imported import imported_recording
+from softarm.record.recording import Recording, TruncatedRecordingWarning
 from softarm.record.scan import file_records
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
-
-
-class TruncatedRecordingWarning(UserWarning):
-    """A recording was cut short; the frames of its complete chunks were recovered."""
-
-
-@dataclass(frozen=True)
-class Recording:
-    path: Path
-    model: dict[str, Any]        # the `softarm` metadata's model document (docs/recording.md, Metadata)
-    times: np.ndarray            # (T,) s
-    frames: np.ndarray           # (T, H, W) uint8, 1 = arm
-    stretch: np.ndarray          # (T, P) m
-    displacement: np.ndarray     # (T,) m
-    positions: Optional[np.ndarray]  # (T, N, 2) m, None when read with nodes=False
-    complete: bool               # the run ended normally (not interrupted, not truncated)
-    truncated: bool              # the file was cut short and recovered
-    active: np.ndarray           # (T, D) bool: disturbance d of the model's list acts at frame k (D = 0 before /3)
-
-    @property
-    def frame_dt(self) -> float:
-        return float(self.model["frame_dt"])
-
-    @property
-    def world_to_pixel(self) -> np.ndarray:
-        """The camera's 2x3 map M: [u, v] = M [x, y, 1]."""
-        return np.array(self.model["camera"]["world_to_pixel"], np.float64)
-
-    @property
-    def pixels_per_metre(self) -> float:
-        return float(np.hypot(*self.world_to_pixel[:, 0]))
 
 
 def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
     """Load every complete frame of a recording. nodes=False skips the node positions (the largest part)."""
     path = Path(path)
     model, run, messages, truncated = _scan(path, nodes)
+    if model.get("kind") == IMPORTED:
+        return imported_recording(path, model, run, messages, truncated)
     stamps = sorted(set.intersection(*(set(messages[t]) for t in _topics(nodes, model))))
     if not stamps:
         raise RecordingError(f"{path} holds no complete frame")
     height, width = model["camera"]["height"], model["camera"]["width"]
-    frames = (np.stack([_image(messages[IMAGE][s], path, height, width) for s in stamps]) > 127).astype(np.uint8)
+    frames = (np.stack([mono8_image(messages[IMAGE][s], path, height, width) for s in stamps]) > 127).astype(np.uint8)
     complete = run is not None and run.get("complete") == "true" and not truncated
     signals = {STRETCH: (("stretch",), (len(model["sensors"]),)), EXCITATION: (("displacement",), ()),
                NODES: (("positions",), (len(model["nodes"]), 2))}
-    stretch, displacement, positions = (_signal(messages[topic], stamps, *signals[topic], topic, path)
+    stretch, displacement, positions = (signal_values(messages[topic], stamps, *signals[topic], topic, path)
                                         if topic in messages else None for topic in (STRETCH, EXCITATION, NODES))
     if truncated:
         warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
@@ -147,7 +120,8 @@ def _scan(path: Path, nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, s
         raise RecordingError(f"{path} is cut short before its metadata: no frame can be recovered")
     if model is None:
         raise RecordingError(f"{path} is an MCAP file but not a softarm recording (no '{META_MODEL}' metadata)")
-    missing = [t for t in _topics(nodes, model) if not messages[t]]
+    needed = (STRETCH,) if model.get("kind") == IMPORTED else _topics(nodes, model)
+    missing = [t for t in needed if not messages[t]]
     if missing and not truncated:
         raise RecordingError(f"{path} has no messages on {', '.join(missing)}")
     return model, run, messages, truncated
@@ -215,31 +189,3 @@ def _active(messages: dict[int, bytes], stamps: list[int], model: dict[str, Any]
     except (orjson.JSONDecodeError, KeyError, TypeError, ValueError, IndexError):
         raise RecordingError(f"{path}: its {DISTURBANCE} messages do not list indices of its disturbances") from None
     return out
-
-
-def _signal(messages: dict[int, bytes], stamps: list[int], keys: tuple[str, ...], shape: tuple[int, ...], topic: str,
-            path: Path) -> np.ndarray:
-    """(T, *shape) float64: the field `keys[0]` of every frame's JSON message, decoded in one call (one array
-    document: much cheaper than one call each); a message that does not decode to it is refused."""
-    try:
-        decoded = orjson.loads(b"[" + b",".join(messages[s] for s in stamps) + b"]")
-        values = np.array([m[keys[0]] for m in decoded], np.float64)
-    except (orjson.JSONDecodeError, KeyError, TypeError, ValueError, IndexError):
-        values = None
-    if values is None or values.shape != (len(stamps), *shape):
-        raise RecordingError(f"{path}: its {topic} messages do not hold {keys[0]} of shape {shape} for every frame")
-    return values
-
-
-def _image(data: bytes, path: Path, height: int, width: int) -> np.ndarray:
-    """The mono8 pixels (height, width) of one foxglove.RawImage message."""
-    try:
-        msg = RawImage.FromString(data)
-    except Exception:
-        raise RecordingError(f"{path}: a {IMAGE} message is not a foxglove.RawImage") from None
-    if msg.encoding != "mono8" or (msg.height, msg.width) != (height, width):
-        raise RecordingError(f"{path}: images are {msg.encoding} {msg.height}x{msg.width}, but the model says "
-                             f"mono8 {height}x{width}")
-    if msg.step < msg.width or len(msg.data) != msg.height * msg.step:
-        raise RecordingError(f"{path}: an image holds {len(msg.data)} bytes, not {msg.height} rows of {msg.step}")
-    return np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.step)[:, :msg.width]

@@ -6,6 +6,7 @@ import numpy as np
 
 from softarm.arm.sensors import stretch
 from softarm.errors import RecordingError
+from softarm.record.recording import needs_nodes_error
 
 if TYPE_CHECKING:
     from softarm.record.reader import Recording
@@ -28,8 +29,7 @@ def recording_stretch(recording: "Recording", pairs: Optional[Pairs]) -> np.ndar
     if pairs is None or len(pairs) == 0:
         return np.asarray(recording.stretch, np.float64)
     if recording.positions is None:
-        raise RecordingError(f"{recording.path} was read without node positions, which sensing.pairs needs "
-                             "to recompute the stretch")
+        raise needs_nodes_error(recording, "sensing.pairs (the stretch of other node pairs, recomputed)")
     return stretch_for_pairs(recording.positions, np.asarray(recording.model["nodes"], np.float64), pairs)
 
 

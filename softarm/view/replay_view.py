@@ -77,8 +77,9 @@ def _log_signals(rec: rr.RecordingStream, result: Any) -> None:
             rec.send_columns(f"signals/{name}/{i}", indexes=times,
                              columns=rr.Scalars.columns(scalars=result.inputs[:, column + i]))
         column += width
-    rec.send_columns("signals/excitation", indexes=times,
-                     columns=rr.Scalars.columns(scalars=result.recording.displacement))
+    if result.recording.displacement is not None:  # an imported log may have no drive
+        rec.send_columns("signals/excitation", indexes=times,
+                         columns=rr.Scalars.columns(scalars=result.recording.displacement))
     seen = result.predicted
     imagined_times = [rr.TimeColumn("sim_time", duration=result.times[seen])]
     rec.send_columns("signals/iou", indexes=imagined_times, columns=rr.Scalars.columns(scalars=result.iou[seen]))

@@ -1,0 +1,90 @@
+"""`softarm import` and `softarm robot-log`: a real robot's MCAP log made into a softarm recording, and a
+robot-style log made from a softarm recording for trying that out."""
+
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+from softarm_cli.console import complain, err, run_or_exit, say
+from softarm_cli.options import Force, Quiet
+
+from softarm.real.settings import ImportSettings, parse_roi
+
+MASK_HELP = ("Which pixels are arm: CHANNEL>VALUE or CHANNEL<VALUE (channels r g b gray h s v, or diff against the "
+             "background; VALUE a number 0..255, hue in degrees, or otsu), or hsv=H0-H1,S0-S1,V0-V1.")
+
+
+def import_log(
+    log: Annotated[Path, typer.Argument(metavar="LOG.mcap", help="A ROS 2 or Foxglove MCAP log.")],
+    camera: Annotated[str, typer.Option(help="Image topic (sensor_msgs Image / CompressedImage, foxglove RawImage / CompressedImage).")],
+    sensors: Annotated[str, typer.Option(help="Stretch readings as TOPIC:FIELD, e.g. /arm/stretch:data or /joint_states:position.")],
+    out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="The softarm recording to write (.mcap).")] = None,
+    drive: Annotated[Optional[str], typer.Option(help="The actuator command as TOPIC:FIELD, on the sensors' clock.")] = None,
+    mask: Annotated[str, typer.Option(help=MASK_HELP)] = "s>otsu",
+    background: Annotated[Optional[str], typer.Option(help="Subtract a background: 'median' of frames across the log, or an image file.")] = None,
+    roi: Annotated[Optional[str], typer.Option(help="Region of interest X,Y,WIDTH,HEIGHT in the camera's pixels, cut before resizing.")] = None,
+    frame_dt: Annotated[Optional[float], typer.Option(help="Frame period of the recording in s [default: the camera's own].")] = None,
+    lag: Annotated[Optional[float], typer.Option(help="Seconds the sensors' stamps run ahead of the camera's [default: found by cross-correlation].")] = None,
+    max_lag: Annotated[float, typer.Option(help="The lag is searched within +-this many seconds.")] = 1.0,
+    preview: Annotated[Optional[Path], typer.Option(help="Write a PNG of a few frames and their masks, and stop (nothing is converted).")] = None,
+    force: Force = False,
+    quiet: Quiet = False,
+) -> None:
+    """Import a robot's log: camera frames segmented into masks, sensors aligned to them, as a softarm recording.
+
+    \b
+    Example: softarm import lab.mcap --camera /camera/image_raw/compressed --sensors /arm/stretch:data --roi 26,58,588,364 --preview mask.png
+             softarm import lab.mcap --camera /camera/image_raw/compressed --sensors /arm/stretch:data --roi 26,58,588,364 --out lab.mcap
+    """
+    from softarm.real.convert import import_log as convert
+    from softarm.real.preview import preview_log
+
+    settings = run_or_exit(lambda: ImportSettings(camera, sensors, drive, mask, background, parse_roi(roi),
+                                                  frame_dt=frame_dt, lag=lag, max_lag=max_lag))
+    if preview is not None:
+        written = run_or_exit(lambda: preview_log(log, preview, settings, force=force))
+        if not quiet:
+            say(f"wrote {written}: camera, mask over it, mask at the models' size")
+        return
+    if out_path is None:
+        complain("error: give --out REC.mcap to convert (or --preview PNG to look at the masks first)")
+        raise typer.Exit(2)
+    report = run_or_exit(lambda: convert(log, out_path, settings, force=force))
+    if quiet:
+        return
+    drive_rate = f", drive {report.drive_hz:.1f} Hz" if report.drive_hz is not None else ""
+    how = "found by cross-correlation" + (f", R^2 {report.lag_fit:.2f}" if report.lag_fit is not None else "")
+    say(f"rates: camera {report.camera_hz:.2f} Hz, sensors {report.sensor_hz:.1f} Hz{drive_rate}")
+    say(f"lag: sensors {report.lag * 1e3:+.1f} ms ahead of the camera ({how if report.lag_estimated else 'given'})")
+    say(f"overlap: {report.overlap[0]:.3f}..{report.overlap[1]:.3f} s of the camera's time; "
+              f"{report.frames} frames every {report.frame_dt * 1e3:.2f} ms, {len(report.gaps)} gap(s)"
+              + (f" at frames {', '.join(map(str, report.gaps[:10]))}{' ...' if len(report.gaps) > 10 else ''}" if report.gaps else ""))
+    say(f"mask: {report.coverage:.1%} of pixels are arm" + (f" (Otsu threshold {report.threshold:.0f})" if report.threshold is not None else ""))
+    say(f"wrote {report.path}")
+
+
+def robot_log(
+    recording: Annotated[Path, typer.Argument(metavar="RECORDING.mcap", help="A softarm recording.")],
+    out_path: Annotated[Path, typer.Option("--out", "-o", help="The ROS 2 MCAP log to write.")],
+    image_format: Annotated[str, typer.Option(help="jpeg | png | rgb8")] = "jpeg",
+    offset: Annotated[float, typer.Option(help="Seconds the sensor clock runs ahead of the camera's.")] = 0.047,
+    force: Force = False,
+    quiet: Quiet = False,
+) -> None:
+    """Write a softarm recording as the ROS 2 bag a lab would log (640x480 colour camera at 30 Hz, stretch at 100 Hz
+    on a clock of its own, the drive): something to try `softarm import` on.
+
+    \b
+    Example: softarm robot-log recordings/seed0.mcap --out recordings/seed0_robot.mcap
+    """
+    from softarm.files import check_outputs
+    from softarm.real.robot_log import RobotLogSettings, make_robot_log
+
+    settings = RobotLogSettings(image_format=image_format, sensor_offset=offset)
+    run_or_exit(lambda: check_outputs([out_path], force=force, inputs=[recording]))
+    made = run_or_exit(lambda: make_robot_log(recording, out_path, settings))
+    if quiet:
+        return
+    say(f"wrote {made.path}: {made.frames} camera frames on {made.camera_topic}, stretch on "
+               f"{made.stretch_topic}, drive on {made.drive_topic}; the arm is in --roi {','.join(map(str, made.roi))}")
+    err.print(f"sensor clock {made.offset * 1e3:+.0f} ms ahead of the camera; {len(made.dropped)} frame(s) dropped")

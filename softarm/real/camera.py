@@ -1,0 +1,119 @@
+"""The camera topic of a log as masks at the models' camera size, read frame by frame (never all decoded at
+once): a first look at a few frames fixes what the whole recording shares (the background, Otsu's threshold),
+then every frame is decoded, cut to the region of interest, segmented and area-averaged down."""
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterator, Optional
+
+import numpy as np
+from PIL import Image
+
+from softarm.errors import ConfigError, RecordingError
+from softarm.real.fields import header_stamp
+from softarm.real.images import decode_image
+from softarm.real.log import LogFile
+from softarm.real.segment import MaskRule, downsample, otsu, parse_mask
+from softarm.real.settings import ImportSettings
+
+SAMPLES = 40  # frames the first look decodes
+SUPERSAMPLE = 1.5  # image pixels per camera pixel (each way) that a JPEG is decoded with, at least
+
+
+@dataclass(frozen=True)
+class Masks:
+    stamps: np.ndarray      # (N,) s, the camera's (header stamps, or log times where it has none)
+    masks: np.ndarray       # (N, H, W) uint8 0/1 at the models' camera size
+    threshold: Optional[float]  # Otsu's, where the rule asked for it
+    header_stamps: bool
+    size: tuple[int, int]   # the camera's own (width, height)
+
+
+class CameraReader:
+    def __init__(self, log: LogFile, settings: ImportSettings):
+        self.log, self.settings = log, settings
+        self.rule: MaskRule = parse_mask(settings.mask)
+        self.count = log.topics[settings.camera].messages
+        self.where = f"{log.path}:{settings.camera}"
+        self.background: Optional[np.ndarray] = None
+        self.threshold: Optional[float] = None
+
+    def _frames(self, every: int = 1) -> Iterator[tuple[int, object, np.ndarray, tuple[int, int]]]:
+        """(log time, message, ROI pixels, camera size) of every `every`-th camera frame."""
+        for n, (log_time, data, decode) in enumerate(self.log.raw(self.settings.camera)):
+            if n % every == 0:
+                message = decode(data)
+                rgb, size = decode_image(message, self.where, self._least_scale)
+                yield log_time, message, self._roi(rgb, size), size
+
+    def _least_scale(self, size: tuple[int, int]) -> float:
+        """The smallest decoding scale that keeps SUPERSAMPLE image pixels per camera pixel across the ROI."""
+        s = self.settings
+        w, h = (s.roi[2], s.roi[3]) if s.roi is not None else size
+        return SUPERSAMPLE * max(s.width / max(w, 1), s.height / max(h, 1))
+
+    def _roi(self, rgb: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+        roi = self.settings.roi
+        if roi is None:
+            return rgb
+        x, y, w, h = roi
+        if x + w > size[0] or y + h > size[1]:
+            raise ConfigError(f"--roi {x},{y},{w},{h} reaches outside the camera's {size[0]}x{size[1]} image")
+        fx, fy = rgb.shape[1] / size[0], rgb.shape[0] / size[1]  # a JPEG may have been decoded at a smaller scale
+        return rgb[round(y * fy):round((y + h) * fy), round(x * fx):round((x + w) * fx)]
+
+    def first_look(self) -> None:
+        """The background (median of frames across the log, or an image file) and Otsu's threshold."""
+        background = self.settings.background
+        samples = [pixels for _, _, pixels, _ in self._frames(max(1, self.count // SAMPLES))] if self.count else []
+        if not samples:
+            raise RecordingError(f"{self.where} holds no image")
+        shape = min(p.shape for p in samples)
+        samples = [p[:shape[0], :shape[1]] for p in samples]
+        if background == "median":
+            self.background = np.median(np.stack(samples), axis=0).astype(np.int16)
+        elif background is not None:
+            self.background = _background_file(Path(background), shape)
+        if self.rule.needs_otsu:
+            self.threshold = otsu(np.concatenate([self.rule.channel(p, self.background).ravel() for p in samples]))
+
+    def masks(self, progress: Callable[[int], None] = lambda n: None) -> Masks:
+        """Every frame's mask and stamp, in the log's order."""
+        stamps, masks, headers, sizes = [], [], [], set()
+        for n, (log_time, message, pixels, size) in enumerate(self._frames()):
+            sizes.add(size)
+            stamp = header_stamp(message)
+            headers.append(stamp is not None)
+            stamps.append(stamp if stamp is not None else log_time * 1e-9)
+            masks.append(self.segment(pixels))
+            if n % 100 == 0:
+                progress(n)
+        if not all(headers):
+            warnings.warn(f"{self.where}: images without a header stamp are placed at their log time (when the "
+                          "log received them), which lags acquisition by an unknown, varying transport delay",
+                          stacklevel=2)
+        order = np.argsort(stamps, kind="stable")
+        return Masks(np.asarray(stamps)[order], np.stack(masks)[order], self.threshold, all(headers), max(sizes))
+
+    def segment(self, pixels: np.ndarray) -> np.ndarray:
+        """(height, width) uint8 0/1: the mask of one frame's ROI pixels at the models' camera size."""
+        values = self.rule.channel(pixels, self._fit(self.background, pixels))
+        return downsample(self.rule.apply(values, self.threshold), self.settings.width, self.settings.height)
+
+    def examples(self, count: int) -> list[tuple[np.ndarray, np.ndarray]]:
+        """(ROI pixels, mask) of `count` frames spread over the log, for a preview."""
+        every = max(1, self.count // max(count, 1))
+        return [(pixels, self.segment(pixels)) for _, _, pixels, _ in self._frames(every)][:count]
+
+    @staticmethod
+    def _fit(background: Optional[np.ndarray], pixels: np.ndarray) -> Optional[np.ndarray]:
+        return None if background is None else background[:pixels.shape[0], :pixels.shape[1]]
+
+
+def _background_file(path: Path, shape: tuple[int, ...]) -> np.ndarray:
+    try:
+        image = Image.open(path).convert("RGB")
+    except (OSError, ValueError) as e:
+        raise ConfigError(f"--background {path}: not a readable image ({e})") from None
+    return np.asarray(image.resize((shape[1], shape[0]), Image.Resampling.BILINEAR), np.int16)

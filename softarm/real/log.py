@@ -1,0 +1,105 @@
+"""A robot's MCAP log, read without ROS: its topics, and their messages decoded by the `mcap` packages' own ROS 2
+(CDR) and protobuf decoders, one topic at a time in log-time order."""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, BinaryIO, Callable, Iterator, Optional
+
+import orjson
+from mcap.exceptions import McapError
+from mcap.reader import McapReader, make_reader
+from mcap_protobuf.decoder import DecoderFactory as ProtobufDecoders
+from mcap_ros2.decoder import DecoderFactory as Ros2Decoders
+
+from softarm.errors import RecordingError
+from softarm.real.fields import numeric_fields
+
+IMAGE_SCHEMAS = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage", "foxglove.RawImage",
+                 "foxglove.CompressedImage")
+
+
+@dataclass(frozen=True)
+class Topic:
+    name: str
+    schema: str      # e.g. sensor_msgs/msg/CompressedImage, foxglove.RawImage
+    encoding: str    # the message encoding: cdr, protobuf, json, ...
+    messages: int
+
+    @property
+    def image(self) -> bool:
+        return self.schema in IMAGE_SCHEMAS or self.schema.replace("/msg/", "/") in IMAGE_SCHEMAS
+
+
+class LogFile:
+    """An open log: `topics` from its summary, `messages(topic)` decoded, or `raw(topic)` undecoded."""
+
+    def __init__(self, path: Path):
+        self.path = Path(path)
+        try:
+            self._file: BinaryIO = open(self.path, "rb")
+        except FileNotFoundError:
+            raise RecordingError(f"log {self.path} not found") from None
+        except IsADirectoryError:
+            raise RecordingError(f"{self.path} is a folder, not a log") from None
+        try:
+            self._reader: McapReader = make_reader(self._file)
+            summary = self._reader.get_summary()
+        except (McapError, ValueError, EOFError) as e:
+            self.close()
+            raise RecordingError(f"{self.path} is not a readable MCAP log ({type(e).__name__}: {e}); a log cut short "
+                                 "has no summary: run `mcap recover` on it first") from None
+        if summary is None:
+            self.close()
+            raise RecordingError(f"{self.path} has no summary section; run `mcap recover` on it first")
+        self._factories = (Ros2Decoders(), ProtobufDecoders())
+        counts = summary.statistics.channel_message_counts if summary.statistics else {}
+        self.topics = {c.topic: Topic(c.topic, summary.schemas[c.schema_id].name if c.schema_id else "",
+                                      c.message_encoding, counts.get(c.id, 0)) for c in summary.channels.values()}
+
+    def __enter__(self) -> "LogFile":
+        return self
+
+    def __exit__(self, *_: Any) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self._file.close()
+
+    def raw(self, topic: str) -> Iterator[tuple[int, bytes, Any]]:
+        """(log time ns, message bytes, a decoder of them) for each message on `topic`, in log-time order."""
+        decoders: dict[int, Any] = {}
+        for schema, channel, message in self._reader.iter_messages(topics=[topic]):
+            if channel.id not in decoders:
+                decoders[channel.id] = self._decoder(channel.message_encoding, schema, topic)
+            yield message.log_time, message.data, decoders[channel.id]
+
+    def _decoder(self, encoding: str, schema: Any, topic: str) -> Callable[[bytes], Any]:
+        if encoding == "json":
+            return orjson.loads
+        for factory in self._factories:
+            decoder = factory.decoder_for(encoding, schema)
+            if decoder is not None:
+                return decoder
+        raise RecordingError(f"{self.path}: no decoder reads {topic} (message encoding {encoding!r}, schema "
+                             f"{getattr(schema, 'name', None)!r}); softarm reads ROS 2 (cdr), protobuf and json messages")
+
+    def messages(self, topic: str) -> Iterator[tuple[int, Any]]:
+        """(log time ns, decoded message) for each message on `topic`."""
+        for log_time, data, decode in self.raw(topic):
+            yield log_time, decode(data)
+
+    def first(self, topic: str) -> Optional[Any]:
+        return next((message for _, message in self.messages(topic)), None)
+
+    def describe(self) -> str:
+        """The image topics and the numeric fields of the others, for a message that names what the log has."""
+        images = [t.name for t in self.topics.values() if t.image]
+        numeric = []
+        for t in self.topics.values():
+            if not t.image and t.messages:
+                try:
+                    numeric.extend(f"{t.name}:{f}" for f in numeric_fields(self.first(t.name)))
+                except Exception:  # a topic no decoder reads is simply not listed
+                    continue
+        return (f"image topics: {', '.join(images) or 'none'}; numeric topics (TOPIC:FIELD): "
+                f"{', '.join(numeric) or 'none'}")

@@ -1,0 +1,250 @@
+"""A softarm recording rewritten as the ROS 2 MCAP bag a lab with a real soft arm would log.
+
+An importer of such logs must find the arm in a big, noisy colour image, read the stretch and undo the lag between
+two clocks. Real bags come without ground truth; this one is made from a recording, where mask, stretch and lag are
+known: a 30 Hz camera (JPEG, PNG or rgb8; flicker, blur, noise, dropped frames, transport delays) and a 100 Hz
+sensor/drive controller whose clock runs `sensor_offset` ahead, with jittered stamps. All follows from the seed.
+"""
+
+import heapq
+import io
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterator
+
+import numpy as np
+from mcap.writer import CompressionType
+from mcap_ros2.writer import Writer
+from PIL import Image, ImageChops, ImageDraw, ImageFilter
+
+from softarm.record.reader import Recording, read_recording
+
+_SEP = "\n" + "=" * 80 + "\nMSG: "
+_TIME = "int32 sec\nuint32 nanosec\n"
+_HEADER = "builtin_interfaces/Time stamp\nstring frame_id\n"
+_STAMPED = (("std_msgs/Header", _HEADER), ("builtin_interfaces/Time", _TIME))
+_DEFINITIONS: dict[str, tuple[str, tuple[tuple[str, str], ...]]] = {
+    "sensor_msgs/msg/CompressedImage": ("std_msgs/Header header\nstring format\nuint8[] data\n", _STAMPED),
+    "sensor_msgs/msg/Image": ("std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\n"
+                              "uint8 is_bigendian\nuint32 step\nuint8[] data\n", _STAMPED),
+    "sensor_msgs/msg/JointState": ("std_msgs/Header header\nstring[] name\nfloat64[] position\n"
+                                   "float64[] velocity\nfloat64[] effort\n", _STAMPED),
+    "softarm_msgs/msg/Stretch": ("# Stretch of each sensor, m\nstd_msgs/Header header\nfloat32[] data\n", _STAMPED),
+    "std_msgs/msg/Float32MultiArray": ("MultiArrayLayout  layout\nfloat32[]         data\n", (
+        ("std_msgs/MultiArrayLayout", "MultiArrayDimension[] dim\nuint32 data_offset\n"),
+        ("std_msgs/MultiArrayDimension", "string label\nuint32 size\nuint32 stride\n"))),
+}
+_ARM_RGB = (215, 95, 35)
+_SUPERSAMPLE = 4
+_NOISE_PAD = 61
+
+
+@dataclass(frozen=True)
+class RobotLogSettings:
+    """How the lab's camera and controller deviate from the ideal recording (all defaults: a typical lab rig)."""
+    width: int = 640
+    height: int = 480
+    camera_hz: float = 30.0
+    image_format: str = "jpeg"      # "jpeg" or "png" -> sensor_msgs/msg/CompressedImage; "rgb8" -> sensor_msgs/msg/Image
+    jpeg_quality: int = 85
+    sensor_offset: float = 0.047    # s: the sensor/drive clock runs this far ahead of the camera's
+    sensor_jitter: float = 0.002    # s: std of the stretch header stamps' jitter (clipped at 3 std)
+    dropped: int = 5                # camera frames dropped (never the first or last 10)
+    blur: float = 1.2               # px: Gaussian blur of the camera
+    light_noise: float = 0.04       # relative std of each frame's overall brightness (lighting flicker)
+    pixel_noise: float = 4.0        # std of per-pixel noise, in 0..255 units
+    sensor_header: bool = True      # False: stretch as std_msgs/msg/Float32MultiArray (no header)
+    start: float = 1_700_000_000.0  # s: ROS time of the recording's t = 0
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class RobotLog:
+    """What was written, and the ground truth an importer should recover (roi, offset, dropped frames)."""
+    path: Path
+    camera_topic: str
+    stretch_topic: str
+    drive_topic: str
+    roi: tuple[int, int, int, int]  # x, y, w, h: where the recording's camera view lies in the big image
+    offset: float                   # s: the sensor clock's lead over the camera's
+    dropped: tuple[int, ...]        # indices of dropped camera frames, in the camera's own sequence
+    frames: int                     # camera frames written
+    camera_times: np.ndarray        # (frames,) recording time (s) of each written camera frame
+
+
+class _Camera:
+    """The big camera: a fixed textured scene, the arm drawn over it each frame, then flicker and noise."""
+
+    def __init__(self, rec: Recording, settings: RobotLogSettings, rng: np.random.Generator):
+        small_h, small_w = rec.frames.shape[1:]
+        self.s = min(settings.width // small_w, settings.height // small_h)
+        if self.s < 1:
+            raise ValueError(f"a {settings.width}x{settings.height} image cannot hold the {small_w}x{small_h} view")
+        self.roi = ((settings.width - self.s * small_w) // 2, (settings.height - self.s * small_h) // 2,
+                    self.s * small_w, self.s * small_h)
+        self.settings, self.rng, self.size = settings, rng, (settings.width, settings.height)
+        self.M, self.outline = rec.world_to_pixel, np.asarray(rec.model["outline"], np.int64)
+        self.background = _texture(settings, rng)
+        if settings.blur > 0:  # the scene is fixed: blur it once (blur is linear; the arm's edge is blurred below)
+            self.background = self.background.filter(ImageFilter.GaussianBlur(settings.blur))
+        yy, xx = np.mgrid[0:settings.height, 0:settings.width]
+        shade = 1.05 - 0.1 * yy / settings.height - 0.04 * xx / settings.width
+        self.arm = Image.fromarray(np.clip(np.multiply.outer(shade, _ARM_RGB), 0, 255).astype(np.uint8))
+        bank = rng.normal(128.0, settings.pixel_noise, (settings.height + _NOISE_PAD, settings.width + _NOISE_PAD, 3))
+        self.noise = Image.fromarray(np.clip(np.rint(bank), 0, 255).astype(np.uint8))
+
+    def arm_patch(self, nodes: np.ndarray) -> tuple[tuple[int, int], Image.Image] | None:
+        """Where the arm lies and its coverage (0..255) there: the outline polygon, supersampled, then blurred."""
+        p = nodes[self.outline] @ self.M[:, :2].T + self.M[:, 2]
+        q = np.array(self.roi[:2]) + self.s * p  # model pixel [u, u+1) -> big pixels [x + s*u, x + s*(u+1))
+        margin = int(3 * self.settings.blur) + 2
+        lo = np.clip(np.floor(q.min(0)).astype(int) - margin, 0, self.size)
+        hi = np.clip(np.ceil(q.max(0)).astype(int) + margin, 0, self.size)
+        if np.any(hi <= lo):
+            return None
+        sub = Image.new("L", tuple(int(v) for v in _SUPERSAMPLE * (hi - lo)), 0)
+        # PIL puts pixel i at coordinate i: shift by half a pixel so that a pixel is filled when its centre is inside
+        ImageDraw.Draw(sub).polygon([tuple(v) for v in (_SUPERSAMPLE * (q - lo) - 0.5).tolist()], fill=255)
+        mask = sub.reduce(_SUPERSAMPLE)
+        if self.settings.blur > 0:
+            mask = mask.filter(ImageFilter.GaussianBlur(self.settings.blur))
+        return (int(lo[0]), int(lo[1])), mask
+
+    def image(self, nodes: np.ndarray) -> Image.Image:
+        """One camera frame of the arm at these node positions (m)."""
+        img = self.background.copy()
+        if (patch := self.arm_patch(nodes)) is not None:
+            (x, y), mask = patch
+            img.paste(self.arm.crop((x, y, x + mask.width, y + mask.height)), (x, y), mask)
+        gain = self.rng.normal(1.0, self.settings.light_noise)
+        img = img.point(np.clip(np.rint(np.arange(256) * gain), 0, 255).astype(np.uint8).tolist() * 3)
+        if self.settings.pixel_noise > 0:
+            dx, dy = (int(v) for v in self.rng.integers(0, _NOISE_PAD, 2))
+            noise = self.noise.crop((dx, dy, dx + self.size[0], dy + self.size[1]))
+            img = ImageChops.add(img, noise, 1.0, -128)  # saturating img + noise - 128
+        return img
+
+    def message(self, nodes: np.ndarray, stamp_ns: int) -> dict[str, Any]:
+        """The ROS message of one frame, in the settings' format."""
+        img, fmt = self.image(nodes), self.settings.image_format
+        header = _header(stamp_ns, "camera")
+        if fmt == "rgb8":
+            return {"header": header, "height": self.size[1], "width": self.size[0], "encoding": "rgb8",
+                    "is_bigendian": 0, "step": 3 * self.size[0], "data": img.tobytes()}
+        buffer = io.BytesIO()
+        options = {"quality": self.settings.jpeg_quality} if fmt == "jpeg" else {"compress_level": 3}
+        img.save(buffer, fmt.upper(), **options)
+        return {"header": header, "format": f"rgb8; {fmt} compressed bgr8", "data": buffer.getvalue()}
+
+
+def _texture(settings: RobotLogSettings, rng: np.random.Generator) -> Image.Image:
+    """A fixed, smooth, greyish blue-green lab scene: upsampled coarse noise, faint stripes and a few blobs."""
+    w, h = settings.width, settings.height
+    coarse = rng.normal(0.0, 7.0, (6, 8, 3)) + rng.normal(0.0, 14.0, (6, 8, 1))
+    smooth = Image.fromarray(np.clip(coarse + 128, 0, 255).astype(np.uint8)).resize((w, h), Image.BICUBIC)
+    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
+    scene = np.asarray(smooth, np.float32) - 128 + np.array([98.0, 128.0, 126.0], np.float32)
+    angle, period = rng.uniform(0, np.pi), rng.uniform(30, 60)
+    scene += 5.0 * np.sin(2 * np.pi * (xx * np.cos(angle) + yy * np.sin(angle)) / period)[..., None]
+    for cx, cy, r, level in zip(rng.uniform(0, w, 6), rng.uniform(0, h, 6), rng.uniform(15, 60, 6),
+                                rng.uniform(-35, 25, 6)):
+        scene += level * np.exp(-((xx - cx) ** 2 + (yy - cy) ** 2) / (2 * r * r))[..., None]
+    scene[..., 0] = np.minimum(scene[..., 0], scene[..., 1] - 10)  # never orange: red stays below green
+    return Image.fromarray(np.clip(scene, 20, 235).astype(np.uint8))
+
+
+def _ns(seconds: Any) -> Any:
+    return np.rint(np.asarray(seconds, np.float64) * 1e9).astype(np.int64)
+
+
+def _header(stamp_ns: int, frame_id: str) -> dict[str, Any]:
+    return {"stamp": {"sec": int(stamp_ns // 1_000_000_000), "nanosec": int(stamp_ns % 1_000_000_000)},
+            "frame_id": frame_id}
+
+
+def _camera_plan(frames: int, frame_dt: float, settings: RobotLogSettings,
+                 rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Recording frame shown by each camera frame j (nearest j / camera_hz), and the sorted dropped j."""
+    j = np.arange(int(np.ceil(frames * frame_dt * settings.camera_hz)) + 2)
+    shown = np.rint(j / settings.camera_hz / frame_dt).astype(np.int64)
+    shown = shown[shown < frames]
+    candidates = np.arange(10, len(shown) - 10)
+    count = min(settings.dropped, len(candidates))
+    return shown, np.sort(rng.choice(candidates, count, replace=False)) if count > 0 else np.zeros(0, np.int64)
+
+
+def _sensor_stamps(true_ns: np.ndarray, settings: RobotLogSettings, rng: np.random.Generator) -> np.ndarray:
+    """Stretch stamps on the controller's clock: offset plus clipped jitter, kept strictly increasing."""
+    jitter = np.clip(rng.normal(0.0, 1.0, len(true_ns)), -3, 3) * settings.sensor_jitter
+    stamps = np.sort(true_ns + _ns(settings.sensor_offset + jitter))
+    steps = np.arange(len(stamps))
+    return np.maximum.accumulate(stamps - steps) + steps
+
+
+def _streams(rec: Recording, settings: RobotLogSettings, rng: np.random.Generator,
+             camera: _Camera) -> tuple[Iterator[tuple], Iterator[tuple], Iterator[tuple], tuple, np.ndarray]:
+    """The three topics' (log_time, topic, message) streams, each in log-time order, rendered lazily."""
+    true_ns = _ns(settings.start) + _ns(rec.times)
+    shown, dropped = _camera_plan(len(rec.times), rec.frame_dt, settings, rng)
+    kept = np.setdiff1d(np.arange(len(shown)), dropped)
+    stretch_ns = _sensor_stamps(true_ns, settings, rng)
+    stretch_log = true_ns + _ns(np.clip(rng.normal(2e-3, 1e-3, len(true_ns)), 0, 5e-3))  # transport delays
+    camera_log = true_ns[shown] + _ns(np.clip(rng.normal(20e-3, 3e-3, len(shown)), 11e-3, 29e-3))
+    drive_ns = true_ns + _ns(settings.sensor_offset)
+    stretch = rec.stretch.astype(np.float32)
+    topic = _camera_topic(settings)[0]
+    images = ((int(camera_log[j]), topic, camera.message(rec.positions[shown[j]], int(true_ns[shown[j]])))
+              for j in kept)
+    stretches = ((int(stretch_log[k]), "/arm/stretch",
+                  {"header": _header(int(stretch_ns[k]), "arm"), "data": stretch[k].tolist()} if settings.sensor_header
+                  else {"layout": {"dim": [], "data_offset": 0}, "data": stretch[k].tolist()})
+                 for k in range(len(true_ns)))
+    drives = ((int(true_ns[k]) + 1_000_000, "/arm/command",
+               {"header": _header(int(drive_ns[k]), "arm"), "name": ["top"],
+                "position": [float(rec.displacement[k])], "velocity": [], "effort": []})
+              for k in range(len(true_ns)))
+    return images, stretches, drives, tuple(int(j) for j in dropped), rec.times[shown[kept]]
+
+
+def _camera_topic(settings: RobotLogSettings) -> tuple[str, str]:
+    """image_transport's topic and type: the compressed one, or the raw one for rgb8."""
+    if settings.image_format == "rgb8":
+        return "/camera/image_raw", "sensor_msgs/msg/Image"
+    return "/camera/image_raw/compressed", "sensor_msgs/msg/CompressedImage"
+
+
+def make_robot_log(recording: str | Path, out: str | Path,
+                   settings: RobotLogSettings = RobotLogSettings()) -> RobotLog:
+    """Write `out`, a ROS 2 MCAP bag of `recording` as a lab's robot would log it, for testing log importers."""
+    if settings.image_format not in ("jpeg", "png", "rgb8"):
+        raise ValueError(f"image_format must be jpeg, png or rgb8, not {settings.image_format!r}")
+    rec = read_recording(recording)
+    rng = np.random.default_rng(settings.seed)
+    camera = _Camera(rec, settings, rng)
+    images, stretches, drives, dropped, camera_times = _streams(rec, settings, rng, camera)
+    types = {_camera_topic(settings)[0]: _camera_topic(settings)[1],
+             "/arm/stretch": "softarm_msgs/msg/Stretch" if settings.sensor_header else "std_msgs/msg/Float32MultiArray",
+             "/arm/command": "sensor_msgs/msg/JointState"}
+    part = Path(f"{out}.part")
+    try:
+        with open(part, "wb") as f:
+            writer = Writer(f, compression=CompressionType.ZSTD)
+            schemas = {topic: writer.register_msgdef(name, _definition(name)) for topic, name in types.items()}
+            sequence = dict.fromkeys(types, 0)
+            for log_ns, topic, message in heapq.merge(images, stretches, drives, key=lambda m: m[0]):
+                sequence[topic] += 1
+                writer.write_message(topic, schemas[topic], message, log_ns, log_ns, sequence[topic])
+            writer.finish()
+        os.replace(part, out)
+    except BaseException:
+        part.unlink(missing_ok=True)
+        raise
+    return RobotLog(Path(out), _camera_topic(settings)[0], "/arm/stretch", "/arm/command", camera.roi,
+                    settings.sensor_offset, dropped, len(camera_times), camera_times)
+
+
+def _definition(name: str) -> str:
+    """The full message definition, its dependencies after rosbag2's separators."""
+    main, dependencies = _DEFINITIONS[name]
+    return main + "".join(f"{_SEP}{dep}\n{text}" for dep, text in dependencies)

@@ -1,0 +1,47 @@
+"""What `softarm import` is asked to do: the topics, the segmentation, the grid and the lag. Written whole into
+the imported recording's metadata, so the conversion can be repeated and judged."""
+
+from dataclasses import asdict, dataclass, field
+from typing import Any, Optional
+
+from softarm.config import load_config
+from softarm.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class ImportSettings:
+    camera: str                      # image topic
+    sensors: str                     # TOPIC:FIELD of the stretch (or bend) readings
+    drive: Optional[str] = None      # TOPIC:FIELD of the actuator command, on the sensors' clock
+    mask: str = "s>otsu"             # segmentation rule (softarm.real.segment)
+    background: Optional[str] = None  # "median" (of frames across the log) or an image file
+    roi: Optional[tuple[int, int, int, int]] = None  # x, y, width, height in the camera's own pixels
+    width: int = field(default_factory=lambda: load_config().camera.width)   # the camera size the models use
+    height: int = field(default_factory=lambda: load_config().camera.height)
+    frame_dt: Optional[float] = None  # s; None: the camera's own period
+    lag: Optional[float] = None      # s the sensors' stamps run ahead of the camera's; None: estimated
+    max_lag: float = 1.0             # s: the lag is searched in [-max_lag, max_lag]
+
+    def __post_init__(self) -> None:
+        if self.roi is not None and (len(self.roi) != 4 or min(self.roi[2:]) <= 0 or min(self.roi[:2]) < 0):
+            raise ConfigError(f"--roi {self.roi}: give X,Y,WIDTH,HEIGHT in pixels, width and height positive")
+        if self.frame_dt is not None and not 0 < self.frame_dt < 10:
+            raise ConfigError(f"--frame-dt {self.frame_dt}: give a period in seconds, above 0")
+        if not 0 < self.max_lag <= 60:
+            raise ConfigError(f"--max-lag {self.max_lag}: give a search range in seconds, above 0 and at most 60")
+        if not (0 < self.width <= 4096 and 0 < self.height <= 4096):
+            raise ConfigError(f"camera size {self.width}x{self.height} is out of range")
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def parse_roi(text: Optional[str]) -> Optional[tuple[int, int, int, int]]:
+    """'X,Y,W,H' -> a region of interest in pixels."""
+    if text is None:
+        return None
+    try:
+        x, y, w, h = (int(v) for v in text.split(","))
+    except ValueError:
+        raise ConfigError(f"--roi {text!r}: give X,Y,WIDTH,HEIGHT in whole pixels, e.g. 26,58,588,364") from None
+    return x, y, w, h
