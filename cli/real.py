@@ -25,7 +25,7 @@ def import_log(
     roi: Annotated[Optional[str], typer.Option(help="Region of interest X,Y,WIDTH,HEIGHT in the camera's pixels, cut before resizing.")] = None,
     frame_dt: Annotated[Optional[float], typer.Option(help="Frame period of the recording in s [default: the camera's own].")] = None,
     lag: Annotated[Optional[float], typer.Option(help="Seconds the sensors' stamps run ahead of the camera's [default: found by cross-correlation].")] = None,
-    max_lag: Annotated[float, typer.Option(help="The lag is searched within +-this many seconds.")] = 1.0,
+    max_lag: Annotated[float, typer.Option(help="The lag is searched within +-this many seconds.")] = ImportSettings.max_lag,
     preview: Annotated[Optional[Path], typer.Option(help="Write a PNG of a few frames and their masks, and stop (nothing is converted).")] = None,
     force: Force = False,
     quiet: Quiet = False,

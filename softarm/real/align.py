@@ -3,10 +3,12 @@ sensors interpolated onto it from their own stamps, a constant lag between the t
 cross-correlation, and the camera's dropped frames kept as gaps."""
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
-COMPONENTS = 6  # principal components of the masks that the sensors are correlated with
+RIDGE = 0.1   # the lag search's ridge penalty, relative to the mean diagonal of the masks' Gram matrix
+RIVAL = 0.05  # a second peak within this share of the best fit is reported as a rival lag
 
 
 def camera_period(stamps: np.ndarray) -> float:
@@ -52,34 +54,45 @@ def interpolate(times: np.ndarray, stamps: np.ndarray, values: np.ndarray) -> np
     return np.stack([np.interp(times, stamps, column) for column in values.T], axis=1)
 
 
-def mask_features(masks: np.ndarray) -> np.ndarray:
-    """(N, COMPONENTS) principal components of the masks (N, H, W): the body's shape in a few numbers."""
-    flat = masks[:, ::2, ::2].reshape(len(masks), -1).astype(np.float32)
-    flat -= flat.mean(axis=0)
-    u, s, _ = np.linalg.svd(flat, full_matrices=False)
-    return u[:, :COMPONENTS] * s[:COMPONENTS]
+@dataclass(frozen=True)
+class Lag:
+    lag: float                # s the sensors' stamps run ahead of the camera's
+    fit: float                # held-out R^2 of the sensors predicted from the masks at that lag
+    rival: Optional[float]    # another lag that fits almost as well (a nearly periodic motion), if any
 
 
-def estimate_lag(camera_times: np.ndarray, features: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-                 most: float, step: float) -> tuple[float, float]:
-    """The lag L (s) that best explains the mask features at camera time t by the sensors stamped t + L, and
-    the share of the features' variance explained there (R^2). A coarse search every `step` over [-most, most]
-    is refined around its best by a finer one."""
+def estimate_lag(camera_times: np.ndarray, masks: np.ndarray, stamps: np.ndarray, values: np.ndarray,
+                 most: float, step: float) -> Lag:
+    """The lag L (s) at which the masks at camera time t best predict the sensors stamped t + L.
+
+    The readings are a function of the body's shape at the same instant, so a ridge map from the mask's pixels
+    to the sensors, fitted on every other frame and scored on the rest, predicts best at the true lag: a
+    cross-correlation of the two streams that needs no model of the arm. A coarse search every `step` over
+    [-most, most] is refined by a finer one around its best."""
+    usable = (camera_times - most >= stamps[0]) & (camera_times + most <= stamps[-1]) & masks.any(axis=(1, 2))
+    if usable.sum() < 20:
+        raise ValueError("too few frames inside the sensors' time for the search range")
+    pixels = masks[usable][:, ::2, ::2].reshape(int(usable.sum()), -1).astype(np.float64)
+    pixels = pixels[:, pixels.std(axis=0) > 0]
+    pixels -= pixels.mean(axis=0)
+    fit_on = np.arange(len(pixels)) % 2 == 0
+    a, b = pixels[fit_on], pixels[~fit_on]
+    gram = a.T @ a
+    solve = np.linalg.solve(gram + RIDGE * np.trace(gram) / len(gram) * np.eye(len(gram)), a.T)
+    times = camera_times[usable]
+
     def score(lag: float) -> float:
-        t = camera_times + lag
-        ok = (t >= stamps[0]) & (t <= stamps[-1])
-        if ok.sum() < 10:
-            return -np.inf
-        x = interpolate(t[ok], stamps, values)
-        x = (x - x.mean(axis=0)) / np.maximum(x.std(axis=0), 1e-12)
-        design = np.concatenate([np.ones((len(x), 1)), x, x ** 2], axis=1)
-        y = features[ok] - features[ok].mean(axis=0)
-        residual = y - design @ np.linalg.lstsq(design, y, rcond=None)[0]
-        return 1.0 - float((residual ** 2).sum() / max((y ** 2).sum(), 1e-12))
+        y = interpolate(times + lag, stamps, values)
+        y = (y - y.mean(axis=0)) / np.maximum(y.std(axis=0), 1e-12)
+        residual = y[~fit_on] - b @ (solve @ y[fit_on])
+        return 1.0 - float((residual ** 2).sum() / max((y[~fit_on] ** 2).sum(), 1e-12))
 
     coarse = np.arange(-most, most + step / 2, step)
     scores = np.array([score(lag) for lag in coarse])
-    best = coarse[int(np.argmax(scores))]
-    fine = np.linspace(best - step, best + step, 41)
-    scores = np.array([score(lag) for lag in fine])
-    return float(fine[int(np.argmax(scores))]), float(scores.max())
+    best = int(np.argmax(scores))
+    fine = np.linspace(coarse[best] - step, coarse[best] + step, 21)
+    fine_scores = np.array([score(lag) for lag in fine])
+    peaks = [i for i in range(1, len(coarse) - 1) if scores[i] >= max(scores[i - 1], scores[i + 1])
+             and abs(i - best) > 2 and scores[i] >= scores[best] - RIVAL * abs(scores[best])]
+    rival = float(coarse[max(peaks, key=lambda i: scores[i])]) if peaks else None
+    return Lag(float(fine[int(np.argmax(fine_scores))]), float(fine_scores.max()), rival)

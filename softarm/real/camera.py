@@ -2,10 +2,12 @@
 once): a first look at a few frames fixes what the whole recording shares (the background, Otsu's threshold),
 then every frame is decoded, cut to the region of interest, segmented and area-averaged down."""
 
+import os
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Iterator, Optional
+from typing import Callable, Iterator, Optional, Sequence
 
 import numpy as np
 from PIL import Image
@@ -18,6 +20,7 @@ from softarm.real.segment import MaskRule, downsample, otsu, parse_mask
 from softarm.real.settings import ImportSettings
 
 SAMPLES = 40  # frames the first look decodes
+BATCH = 64  # frames decoded at a time: memory stays bounded however long the log
 SUPERSAMPLE = 1.5  # image pixels per camera pixel (each way) that a JPEG is decoded with, at least
 
 
@@ -41,11 +44,19 @@ class CameraReader:
 
     def _frames(self, every: int = 1) -> Iterator[tuple[int, object, np.ndarray, tuple[int, int]]]:
         """(log time, message, ROI pixels, camera size) of every `every`-th camera frame."""
-        for n, (log_time, data, decode) in enumerate(self.log.raw(self.settings.camera)):
+        for n, (_, log_time, data, decode) in enumerate(self.log.raw(self.settings.camera)):
             if n % every == 0:
-                message = decode(data)
-                rgb, size = decode_image(message, self.where, self._least_scale)
-                yield log_time, message, self._roi(rgb, size), size
+                yield (log_time, *self.decode(decode(data)))
+
+    def decode(self, message: object) -> tuple[object, np.ndarray, tuple[int, int]]:
+        """(message, ROI pixels, camera size) of one decoded image message."""
+        rgb, size = decode_image(message, self.where, self._least_scale)
+        return message, self._roi(rgb, size), size
+
+    @property
+    def every(self) -> int:
+        """The first look decodes every `every`-th frame."""
+        return max(1, self.count // SAMPLES)
 
     def _least_scale(self, size: tuple[int, int]) -> float:
         """The smallest decoding scale that keeps SUPERSAMPLE image pixels per camera pixel across the ROI."""
@@ -63,10 +74,11 @@ class CameraReader:
         fx, fy = rgb.shape[1] / size[0], rgb.shape[0] / size[1]  # a JPEG may have been decoded at a smaller scale
         return rgb[round(y * fy):round((y + h) * fy), round(x * fx):round((x + w) * fx)]
 
-    def first_look(self) -> None:
-        """The background (median of frames across the log, or an image file) and Otsu's threshold."""
+    def first_look(self, messages: Sequence[object]) -> None:
+        """The background (median of frames across the log, or an image file) and Otsu's threshold, from a few
+        image messages spread over the log."""
         background = self.settings.background
-        samples = [pixels for _, _, pixels, _ in self._frames(max(1, self.count // SAMPLES))] if self.count else []
+        samples = [self.decode(message)[1] for message in messages]
         if not samples:
             raise RecordingError(f"{self.where} holds no image")
         shape = min(p.shape for p in samples)
@@ -79,22 +91,38 @@ class CameraReader:
             self.threshold = otsu(np.concatenate([self.rule.channel(p, self.background).ravel() for p in samples]))
 
     def masks(self, progress: Callable[[int], None] = lambda n: None) -> Masks:
-        """Every frame's mask and stamp, in the log's order."""
+        """Every frame's mask and stamp, in the log's order. Frames are decoded and segmented by a thread per core
+        (Pillow and NumPy release the GIL) while this thread reads the log, at most BATCH frames at a time."""
         stamps, masks, headers, sizes = [], [], [], set()
-        for n, (log_time, message, pixels, size) in enumerate(self._frames()):
-            sizes.add(size)
-            stamp = header_stamp(message)
-            headers.append(stamp is not None)
-            stamps.append(stamp if stamp is not None else log_time * 1e-9)
-            masks.append(self.segment(pixels))
-            if n % 100 == 0:
-                progress(n)
+        with ThreadPoolExecutor(max_workers=max(1, len(os.sched_getaffinity(0)))) as pool:
+            batch: list[tuple[int, Callable[[bytes], object], bytes]] = []
+            for _, log_time, data, decode in self.log.raw(self.settings.camera):
+                batch.append((log_time, decode, data))
+                if len(batch) == BATCH:
+                    self._segment_batch(pool, batch, stamps, masks, headers, sizes)
+                    progress(len(masks))
+            self._segment_batch(pool, batch, stamps, masks, headers, sizes)
         if not all(headers):
             warnings.warn(f"{self.where}: images without a header stamp are placed at their log time (when the "
                           "log received them), which lags acquisition by an unknown, varying transport delay",
                           stacklevel=2)
         order = np.argsort(stamps, kind="stable")
         return Masks(np.asarray(stamps)[order], np.stack(masks)[order], self.threshold, all(headers), max(sizes))
+
+    def _segment_batch(self, pool: ThreadPoolExecutor, batch: list, stamps: list, masks: list, headers: list,
+                       sizes: set) -> None:
+        def one(item: tuple[int, Callable[[bytes], object], bytes]) -> tuple[float, bool, np.ndarray, tuple[int, int]]:
+            log_time, decode, data = item
+            message, pixels, size = self.decode(decode(data))
+            stamp = header_stamp(message)
+            return (stamp if stamp is not None else log_time * 1e-9), stamp is not None, self.segment(pixels), size
+
+        for stamp, header, mask, size in pool.map(one, batch):
+            stamps.append(stamp)
+            headers.append(header)
+            masks.append(mask)
+            sizes.add(size)
+        batch.clear()
 
     def segment(self, pixels: np.ndarray) -> np.ndarray:
         """(height, width) uint8 0/1: the mask of one frame's ROI pixels at the models' camera size."""

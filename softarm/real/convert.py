@@ -1,6 +1,7 @@
 """`softarm import`: a robot's ROS 2 / Foxglove MCAP log made into a softarm recording (docs/recording.md,
 Imported recordings) that training, replay and the streamer read like a simulated one."""
 
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
@@ -9,14 +10,15 @@ import numpy as np
 
 from softarm.errors import RecordingError
 from softarm.files import check_outputs, claimed, fingerprint, made_folders
-from softarm.real.align import Grid, camera_period, estimate_lag, frame_grid, interpolate, mask_features, rate
+from softarm.real.align import Grid, camera_period, estimate_lag, frame_grid, interpolate, rate
 from softarm.real.camera import CameraReader, Masks
 from softarm.real.log import LogFile
 from softarm.real.settings import ImportSettings
-from softarm.real.signals import Series, read_series
+from softarm.real.signals import Series, SeriesReader
 from softarm.real.write import write_imported
 
 PathLike = Union[str, Path]
+LAG_STEP = 0.01  # s between the lags the coarse search tries
 
 
 @dataclass(frozen=True)
@@ -48,10 +50,8 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     check_outputs([out], force=force, inputs=[log_path])
     with LogFile(log_path) as log:
         check_camera(log, settings)
-        sensors = read_series(log, settings.sensors, "--sensors")
-        drive = read_series(log, settings.drive, "--drive") if settings.drive else None
         camera = CameraReader(log, settings)
-        camera.first_look()
+        sensors, drive = _first_pass(log, settings, camera)
         masks = camera.masks(progress)
     coverage = float(masks.masks.mean())
     if coverage == 0:
@@ -76,6 +76,27 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     return report
 
 
+def _first_pass(log: LogFile, settings: ImportSettings, camera: CameraReader) -> tuple[Series, Optional[Series]]:
+    """One pass over the log: the sensors and the drive read whole, a few camera frames for the first look."""
+    readers = [SeriesReader(log, settings.sensors, "--sensors")]
+    if settings.drive:
+        readers.append(SeriesReader(log, settings.drive, "--drive"))
+    samples, frame = [], 0
+    for topic, log_time, data, decode in log.raw(settings.camera, *{r.topic for r in readers}):
+        if topic == settings.camera:
+            if frame % camera.every == 0:
+                samples.append(decode(data))
+            frame += 1
+            continue
+        message = decode(data)
+        for reader in readers:
+            if reader.topic == topic:
+                reader.add(log_time, message)
+    camera.first_look(samples)
+    series = [reader.series() for reader in readers]
+    return series[0], series[1] if len(series) > 1 else None
+
+
 def check_camera(log: LogFile, settings: ImportSettings) -> None:
     topic = log.topics.get(settings.camera)
     if topic is None:
@@ -92,10 +113,16 @@ def _suggestion(threshold: Optional[float]) -> str:
 
 
 def _lag(masks: Masks, sensors: Series, settings: ImportSettings) -> tuple[float, float]:
-    seen = masks.masks.reshape(len(masks.masks), -1).any(axis=1)
-    step = min(np.median(np.diff(sensors.stamps)), np.median(np.diff(masks.stamps))) / 2
-    return estimate_lag(masks.stamps[seen], mask_features(masks.masks[seen]), sensors.stamps, sensors.values,
-                        settings.max_lag, float(step))
+    try:
+        found = estimate_lag(masks.stamps, masks.masks, sensors.stamps, sensors.values, settings.max_lag, LAG_STEP)
+    except ValueError:
+        raise RecordingError(f"too few camera frames lie within the sensors' time, +-{settings.max_lag:g} s, to find "
+                             "the lag: give it with --lag, or a smaller --max-lag") from None
+    if found.rival is not None:
+        warnings.warn(f"the motion is nearly periodic: a lag of {found.rival * 1e3:+.0f} ms fits almost as well as the "
+                      f"{found.lag * 1e3:+.0f} ms found; if the clocks may be that far apart, check it and give --lag",
+                      stacklevel=3)
+    return found.lag, found.fit
 
 
 def _grid(masks: Masks, sensors: Series, drive: Optional[Series], lag: float, dt: float) -> tuple[Grid, tuple[float, float]]:

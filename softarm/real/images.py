@@ -43,7 +43,7 @@ def _compressed(data: bytes, fmt: str, where: str, scale: Scale) -> tuple[np.nda
         least = min(1.0, scale(size))
         if image.format == "JPEG" and least < 1.0:
             image.draft("RGB", (math.ceil(size[0] * least), math.ceil(size[1] * least)))
-        return np.asarray(image.convert("RGB")), size
+        return np.asarray(image if image.mode == "RGB" else image.convert("RGB")), size
     except (OSError, ValueError, Image.DecompressionBombError) as e:
         raise RecordingError(f"{where}: a {kind} image does not decode ({e})") from None
 

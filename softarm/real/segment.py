@@ -99,6 +99,12 @@ def channel_values(rgb: np.ndarray, name: str) -> np.ndarray:
         return rgb[..., "rgb".index(name)].astype(np.float32)
     if name == "gray":
         return np.asarray(Image.fromarray(rgb).convert("L"), np.float32)
+    if name in "sv":  # as PIL's HSV: V = max, S = 255 (max - min) / max, without a conversion of the whole image
+        r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]  # channel by channel: a reduction over an axis of 3 is slow
+        high = np.maximum(np.maximum(r, g), b).astype(np.float32)
+        if name == "v":
+            return high
+        return (high - np.minimum(np.minimum(r, g), b)) * 255.0 / np.maximum(high, 1.0)
     hsv = np.asarray(Image.fromarray(rgb).convert("HSV"), np.float32)
     index = "hsv".index(name)
     return hsv[..., index] * (360.0 / 256.0 if index == 0 else 1.0)

@@ -20,7 +20,7 @@ class ImportSettings:
     height: int = field(default_factory=lambda: load_config().camera.height)
     frame_dt: Optional[float] = None  # s; None: the camera's own period
     lag: Optional[float] = None      # s the sensors' stamps run ahead of the camera's; None: estimated
-    max_lag: float = 1.0             # s: the lag is searched in [-max_lag, max_lag]
+    max_lag: float = 0.25            # s: the lag is searched in [-max_lag, max_lag]
 
     def __post_init__(self) -> None:
         if self.roi is not None and (len(self.roi) != 4 or min(self.roi[2:]) <= 0 or min(self.roi[:2]) < 0):

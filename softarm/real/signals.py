@@ -23,31 +23,41 @@ class Series:
         return [f"{self.source}[{i}]" for i in range(self.values.shape[1])]
 
 
-def read_series(log: LogFile, source: str, option: str) -> Series:
-    """Every message's values of `source` ('TOPIC:FIELD'), sorted by stamp, duplicate stamps dropped."""
-    topic, path = parse_source(source, option)
-    if topic not in log.topics:
-        raise RecordingError(f"{option}: topic {topic} is not in {log.path}; it has {log.describe()}")
-    stamps, values, headers = [], [], True
-    where = f"{option} {topic}:{path}"
-    for log_time, message in log.messages(topic):
+class SeriesReader:
+    """Collects one source's values ('TOPIC:FIELD') from its messages, as a pass over the log meets them."""
+
+    def __init__(self, log: LogFile, source: str, option: str):
+        self.source, self.option = source, option
+        self.topic, self.path = parse_source(source, option)
+        if self.topic not in log.topics:
+            raise RecordingError(f"{option}: topic {self.topic} is not in {log.path}; it has {log.describe()}")
+        self.where = f"{option} {self.topic}:{self.path}"
+        self.stamps: list[float] = []
+        self.values: list[np.ndarray] = []
+        self.headers = True
+
+    def add(self, log_time: int, message: object) -> None:
         stamp = header_stamp(message)
-        headers &= stamp is not None
-        stamps.append(stamp if stamp is not None else log_time * 1e-9)
-        values.append(field_values(message, path, where))
-    if len(values) < 2:
-        raise RecordingError(f"{where}: the log holds {len(values)} message(s) on it; a series needs two or more")
-    widths = {len(v) for v in values}
-    if len(widths) != 1:
-        raise RecordingError(f"{where}: its messages hold {sorted(widths)} values; every message needs as many")
-    if not headers:
-        warnings.warn(f"{where}: {topic} has no header stamp, so its samples are placed at their log time (when "
-                      "the log received them); transport delays and their jitter then shift them unreliably",
-                      stacklevel=2)
-    stamps_array = np.asarray(stamps)
-    order = np.argsort(stamps_array, kind="stable")
-    stamps_array, values_array = stamps_array[order], np.stack(values)[order]
-    keep = np.concatenate([[True], np.diff(stamps_array) > 0])
-    if not np.isfinite(values_array).all():
-        raise RecordingError(f"{where}: some values are NaN or infinite")
-    return Series(source, stamps_array[keep], values_array[keep], headers)
+        self.headers &= stamp is not None
+        self.stamps.append(stamp if stamp is not None else log_time * 1e-9)
+        self.values.append(field_values(message, self.path, self.where))
+
+    def series(self) -> Series:
+        """Every message's values, sorted by stamp, duplicate stamps dropped; one line for what cannot be used."""
+        where = self.where
+        if len(self.values) < 2:
+            raise RecordingError(f"{where}: the log holds {len(self.values)} message(s) on it; a series needs two or more")
+        widths = {len(v) for v in self.values}
+        if len(widths) != 1:
+            raise RecordingError(f"{where}: its messages hold {sorted(widths)} values; every message needs as many")
+        if not self.headers:
+            warnings.warn(f"{where}: {self.topic} has no header stamp, so its samples are placed at their log time "
+                          "(when the log received them); transport delays and their jitter then shift them unreliably",
+                          stacklevel=2)
+        stamps = np.asarray(self.stamps)
+        order = np.argsort(stamps, kind="stable")
+        stamps, values = stamps[order], np.stack(self.values)[order]
+        keep = np.concatenate([[True], np.diff(stamps) > 0])
+        if not np.isfinite(values).all():
+            raise RecordingError(f"{where}: some values are NaN or infinite")
+        return Series(self.source, stamps[keep], values[keep], self.headers)

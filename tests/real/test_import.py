@@ -1,0 +1,48 @@
+"""`softarm import` recovers what the robot-style bag hid: the arm's mask, the clock offset, the dropped frames
+and the stretch, judged against the softarm recording the bag was made from."""
+
+import json
+
+import numpy as np
+from mcap.reader import make_reader
+from mcap_protobuf.decoder import DecoderFactory
+
+from softarm.model.metrics import iou_per_frame
+from softarm.record.reader import read_recording
+
+
+def native_index(rec, native, start: float) -> np.ndarray:
+    """The source recording's frame at each imported frame's time (the bag's clock starts at `start`)."""
+    t0 = rec.model["source"]["found"]["t0"] - start
+    return np.round((t0 + rec.times) / native.frame_dt).astype(int)
+
+
+def test_import_finds_the_lag_the_gaps_and_the_masks(recordings, robot_bag, imported):
+    report, path = imported
+    native = read_recording(recordings / "s0.mcap")
+    rec = read_recording(path)
+    assert abs(report.lag - robot_bag.offset) < 1 / 30                   # within one camera frame
+    assert abs(report.camera_hz - 30) < 0.5 and abs(report.sensor_hz - 100) < 1
+    assert len(report.gaps) == len(robot_bag.dropped) and rec.model["gaps"] == report.gaps
+    assert rec.imported and rec.positions is None and not rec.seen[report.gaps].any() and rec.seen.sum() > 100
+    k = native_index(rec, native, 1_700_000_000.0)
+    assert iou_per_frame(rec.frames[rec.seen].astype(float), native.frames[k[rec.seen]]).mean() > 0.93
+    at = rec.times + rec.model["source"]["found"]["t0"] - 1_700_000_000.0 + report.lag - robot_bag.offset
+    for imported_signal, source in ((rec.stretch, native.stretch), (rec.displacement[:, None], native.displacement[:, None])):
+        expected = np.stack([np.interp(at, native.times, s) for s in source.T], axis=1)
+        assert np.abs(imported_signal - expected).max() < 0.04 * np.abs(source).max()
+
+
+def test_an_imported_recording_opens_in_a_plain_mcap_reader(imported):
+    report, path = imported
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        meta = {m.name: m.metadata for m in reader.iter_metadata()}
+        images = [img for _, _, _, img in reader.iter_decoded_messages(topics=["/camera/image"])]
+        stretch = [json.loads(m.data) for _, _, m in reader.iter_messages(topics=["/arm/stretch"])]
+    model = json.loads(meta["softarm"]["model"])
+    assert model["kind"] == "imported" and model["source"]["settings"]["mask"] == "s>otsu"
+    assert len(images) == report.frames - len(report.gaps) and len(stretch) == report.frames
+    assert images[0].encoding == "mono8" and (images[0].width, images[0].height) == (52, 84)
+    assert meta["softarm.run"] == {"complete": "true", "frames": str(report.frames)}
+    assert model["source"]["found"]["lag"] == report.lag and "sha256" in model["source"]
