@@ -8,7 +8,7 @@ import typer
 from softarm_cli.console import complain, err, run_or_exit, say
 from softarm_cli.options import Force, Quiet
 
-from softarm.real.settings import ImportSettings, parse_roi
+from softarm.real.settings import ImportSettings, parse_frame_dt, parse_roi
 
 MASK_HELP = ("Which pixels are arm: CHANNEL>VALUE or CHANNEL<VALUE (channels r g b gray h s v, or diff against the "
              "background; VALUE a number 0..255, hue in degrees, or otsu), or hsv=H0-H1,S0-S1,V0-V1.")
@@ -23,7 +23,7 @@ def import_log(
     mask: Annotated[str, typer.Option(help=MASK_HELP)] = "s>otsu",
     background: Annotated[Optional[str], typer.Option(help="Subtract a background: 'median' of frames across the log, or an image file.")] = None,
     roi: Annotated[Optional[str], typer.Option(help="Region of interest X,Y,WIDTH,HEIGHT in the camera's pixels, cut before resizing.")] = None,
-    frame_dt: Annotated[Optional[float], typer.Option(help="Frame period of the recording in s [default: the camera's own].")] = None,
+    frame_dt: Annotated[Optional[str], typer.Option(help="Frame period of the recording in s, or 'camera' for the camera's own; frames between camera images are gaps [default: the config's integration.frame_dt, the stretch's usual rate].")] = None,
     lag: Annotated[Optional[float], typer.Option(help="Seconds the sensors' stamps run ahead of the camera's [default: found by cross-correlation].")] = None,
     max_lag: Annotated[float, typer.Option(help="The lag is searched within +-this many seconds.")] = ImportSettings.max_lag,
     preview: Annotated[Optional[Path], typer.Option(help="Write a PNG of a few frames and their masks, and stop (nothing is converted).")] = None,
@@ -40,7 +40,7 @@ def import_log(
     from softarm.real.preview import preview_log
 
     settings = run_or_exit(lambda: ImportSettings(camera, sensors, drive, mask, background, parse_roi(roi),
-                                                  frame_dt=frame_dt, lag=lag, max_lag=max_lag))
+                                                  frame_dt=parse_frame_dt(frame_dt), lag=lag, max_lag=max_lag))
     if preview is not None:
         written = run_or_exit(lambda: preview_log(log, preview, settings, force=force))
         if not quiet:
@@ -57,8 +57,8 @@ def import_log(
     say(f"rates: camera {report.camera_hz:.2f} Hz, sensors {report.sensor_hz:.1f} Hz{drive_rate}")
     say(f"lag: sensors {report.lag * 1e3:+.1f} ms ahead of the camera ({how if report.lag_estimated else 'given'})")
     say(f"overlap: {report.overlap[0]:.3f}..{report.overlap[1]:.3f} s of the camera's time; "
-              f"{report.frames} frames every {report.frame_dt * 1e3:.2f} ms, {len(report.gaps)} gap(s)"
-              + (f" at frames {', '.join(map(str, report.gaps[:10]))}{' ...' if len(report.gaps) > 10 else ''}" if report.gaps else ""))
+              f"{report.frames} frames every {report.frame_dt * 1e3:.2f} ms, {report.frames - len(report.gaps)} with a "
+              f"camera image ({len(report.gaps)} without: training skips them); the camera dropped {report.dropped} frame(s)")
     say(f"mask: {report.coverage:.1%} of pixels are arm" + (f" (Otsu threshold {report.threshold:.0f})" if report.threshold is not None else ""))
     say(f"wrote {report.path}")
 

@@ -4,7 +4,7 @@ The data path, one stage per subpackage: `arm` (the body as arrays) -> `sim` (Ta
 camera) -> `record` (MCAP) -> `sense` (what the sensors read) -> `model` (the trained model: networks,
 inputs, checkpoint, answers, baselines, metrics) trained by `learn` -> `imagine` (replay, the online
 streamer) -> `suite` (held-out evaluation) -> `view` (Rerun, PNG); `study` runs grids of trainings and
-evaluations as Ray tasks; `demo` runs the whole pipeline.
+evaluations as Ray tasks; `demo` runs the whole pipeline; `real` imports a robot's ROS 2 / Foxglove log.
 
 From a notebook::
 
@@ -16,6 +16,8 @@ From a notebook::
     scores = softarm.evaluate("arm.pt", "suite")      # per family, beside the baselines
     done = softarm.run_study("sensors", "studies/sensors")  # a comparative study, trials as Ray tasks
     stream = softarm.StreamingImaginer.from_checkpoint("arm.pt")  # one sample in, one imagined frame out
+    settings = softarm.ImportSettings("/camera/image_raw/compressed", "/arm/stretch:data", roi=(190, 30, 260, 420))
+    report = softarm.import_log("lab.mcap", "lab_arm.mcap", settings)  # a robot's ROS 2 log as a recording
 
 Importing softarm is cheap: Taichi, torch and rerun load when a function first needs them.
 """
@@ -44,6 +46,10 @@ _API = {
     "run_study": "softarm.study.run",
     "demo": "softarm.demo",
     "StreamingImaginer": "softarm.imagine.stream",
+    "import_log": "softarm.real.convert",
+    "ImportSettings": "softarm.real.settings",
+    "preview_log": "softarm.real.preview",
+    "make_robot_log": "softarm.real.robot_log",
 }
 __all__ = list(_API)
 

@@ -97,8 +97,8 @@ class Dataset:
                                for s, (a, b) in ((s, s.segment(segment)) for s in self.sequences)])
 
     def count(self, segment: str) -> int:
-        """Frames of a segment, all recordings."""
-        return sum(end - start for start, end in (s.segment(segment) for s in self.sequences))
+        """Camera frames of a segment, all recordings (a camera's gaps left out, as `frames` leaves them)."""
+        return int(self.seen_frames(segment).sum())
 
     def window_count(self, segment: str, history: int, lead: int) -> int:
         """The input windows `windows` gives for a segment, all recordings."""

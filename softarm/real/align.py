@@ -21,6 +21,12 @@ def camera_period(stamps: np.ndarray) -> float:
     return float(steps[steps < 1.5 * np.median(steps)].mean())
 
 
+def dropped_frames(stamps: np.ndarray) -> int:
+    """Camera frames missing from the stream: an interval of n periods lost n - 1 frames."""
+    period = camera_period(stamps)
+    return int(np.maximum(np.round(np.diff(stamps) / period) - 1, 0).sum()) if np.isfinite(period) else 0
+
+
 def rate(stamps: np.ndarray) -> float:
     """Messages per second over the span of the stamps (NaN for fewer than two)."""
     return (len(stamps) - 1) / float(stamps[-1] - stamps[0]) if len(stamps) > 1 and stamps[-1] > stamps[0] else float("nan")

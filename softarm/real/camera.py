@@ -19,6 +19,7 @@ from softarm.real.log import LogFile
 from softarm.real.segment import MaskRule, downsample, otsu, parse_mask
 from softarm.real.settings import ImportSettings
 
+Other = dict[str, Callable[[int, object], None]]
 SAMPLES = 40  # frames the first look decodes
 BATCH = 64  # frames decoded at a time: memory stays bounded however long the log
 SUPERSAMPLE = 1.5  # image pixels per camera pixel (each way) that a JPEG is decoded with, at least
@@ -90,13 +91,23 @@ class CameraReader:
         if self.rule.needs_otsu:
             self.threshold = otsu(np.concatenate([self.rule.channel(p, self.background).ravel() for p in samples]))
 
-    def masks(self, progress: Callable[[int], None] = lambda n: None) -> Masks:
+    def samples(self) -> list[object]:
+        """Every `every`-th image message, decoded as messages (not yet as pixels): the first look's frames."""
+        return [decode(data) for n, (_, _, data, decode) in enumerate(self.log.raw(self.settings.camera))
+                if n % self.every == 0]
+
+    def masks(self, progress: Callable[[int], None] = lambda n: None, others: Optional[Other] = None) -> Masks:
         """Every frame's mask and stamp, in the log's order. Frames are decoded and segmented by a thread per core
-        (Pillow and NumPy release the GIL) while this thread reads the log, at most BATCH frames at a time."""
+        (Pillow and NumPy release the GIL), at most BATCH frames at a time, while this thread reads the log and
+        hands the messages of other topics to `others` (topic -> a callback of log time and message)."""
         stamps, masks, headers, sizes = [], [], [], set()
+        others = others or {}
         with ThreadPoolExecutor(max_workers=max(1, len(os.sched_getaffinity(0)))) as pool:
             batch: list[tuple[int, Callable[[bytes], object], bytes]] = []
-            for _, log_time, data, decode in self.log.raw(self.settings.camera):
+            for topic, log_time, data, decode in self.log.raw(self.settings.camera, *others):
+                if topic != self.settings.camera:
+                    others[topic](log_time, decode(data))
+                    continue
                 batch.append((log_time, decode, data))
                 if len(batch) == BATCH:
                     self._segment_batch(pool, batch, stamps, masks, headers, sizes)

@@ -10,7 +10,7 @@ import numpy as np
 
 from softarm.errors import RecordingError
 from softarm.files import check_outputs, claimed, fingerprint, made_folders
-from softarm.real.align import Grid, camera_period, estimate_lag, frame_grid, interpolate, rate
+from softarm.real.align import Grid, camera_period, dropped_frames, estimate_lag, frame_grid, interpolate, rate
 from softarm.real.camera import CameraReader, Masks
 from softarm.real.log import LogFile
 from softarm.real.settings import ImportSettings
@@ -33,7 +33,8 @@ class ImportReport:
     lag: float
     lag_estimated: bool
     lag_fit: Optional[float]      # R^2 of the sensors against the mask at the lag found
-    gaps: list[int]
+    gaps: list[int]               # frames without a camera image: training skips them, scoring ignores them
+    dropped: int                  # camera frames missing from the camera's own stream (intervals of 2 periods or more)
     overlap: tuple[float, float]  # s on the camera's clock, relative to its first frame
     threshold: Optional[float]
     coverage: float               # mean share of the camera's pixels that are arm
@@ -51,8 +52,13 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     with LogFile(log_path) as log:
         check_camera(log, settings)
         camera = CameraReader(log, settings)
-        sensors, drive = _first_pass(log, settings, camera)
-        masks = camera.masks(progress)
+        camera.first_look(camera.samples())
+        readers = [SeriesReader(log, settings.sensors, "--sensors")]
+        if settings.drive:
+            readers.append(SeriesReader(log, settings.drive, "--drive"))
+        masks = camera.masks(progress, {topic: _fan_out([r for r in readers if r.topic == topic])
+                                        for topic in {r.topic for r in readers}})
+        sensors, drive = readers[0].series(), readers[1].series() if len(readers) > 1 else None
     coverage = float(masks.masks.mean())
     if coverage == 0:
         raise RecordingError(f"the mask is empty in every frame with --mask {settings.mask}"
@@ -65,7 +71,8 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     frames = np.where(grid.camera[:, None, None] >= 0, masks.masks[np.maximum(grid.camera, 0)], 0).astype(np.uint8)
     report = ImportReport(out, len(grid.times), float(grid.times[-1] - grid.times[0]), 1 / camera_period(masks.stamps),
                           rate(sensors.stamps), rate(drive.stamps) if drive is not None else None, dt, lag,
-                          settings.lag is None, fit, grid.gaps.tolist(), overlap, camera.threshold, coverage)
+                          settings.lag is None, fit, grid.gaps.tolist(), dropped_frames(masks.stamps), overlap,
+                          camera.threshold, coverage)
     source = {"log": str(log_path), "sha256": fingerprint(log_path), "settings": settings.to_dict(),
               "found": report.to_dict() | {"t0": float(grid.times[0]), "camera_size": list(masks.size),
                                            "header_stamps": {"camera": masks.header_stamps,
@@ -76,25 +83,12 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     return report
 
 
-def _first_pass(log: LogFile, settings: ImportSettings, camera: CameraReader) -> tuple[Series, Optional[Series]]:
-    """One pass over the log: the sensors and the drive read whole, a few camera frames for the first look."""
-    readers = [SeriesReader(log, settings.sensors, "--sensors")]
-    if settings.drive:
-        readers.append(SeriesReader(log, settings.drive, "--drive"))
-    samples, frame = [], 0
-    for topic, log_time, data, decode in log.raw(settings.camera, *{r.topic for r in readers}):
-        if topic == settings.camera:
-            if frame % camera.every == 0:
-                samples.append(decode(data))
-            frame += 1
-            continue
-        message = decode(data)
+def _fan_out(readers: list[SeriesReader]) -> Callable[[int, object], None]:
+    """One topic's messages to every reader of a field of it."""
+    def add(log_time: int, message: object) -> None:
         for reader in readers:
-            if reader.topic == topic:
-                reader.add(log_time, message)
-    camera.first_look(samples)
-    series = [reader.series() for reader in readers]
-    return series[0], series[1] if len(series) > 1 else None
+            reader.add(log_time, message)
+    return add
 
 
 def check_camera(log: LogFile, settings: ImportSettings) -> None:

@@ -2,7 +2,7 @@
 messages (mcap_ros2's classes), protobuf messages and JSON objects alike; and the header stamp beside them."""
 
 import re
-from typing import Any, Optional
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -54,6 +54,23 @@ def field_values(message: Any, path: str, where: str) -> np.ndarray:
     if array.ndim != 1:
         raise RecordingError(f"{where}: field {path!r} holds an array of shape {array.shape}, not a flat list")
     return array
+
+
+def attribute_reader(path: str) -> Callable[[Any], Any]:
+    """A fast reader of a path `field_values` has checked on a first message: attribute (or key) access and
+    indexing, the values left as the decoder gave them (NumPy converts all messages' at once)."""
+    steps = [_STEP.match(part).groups() for part in path.split(".")]
+
+    def read(message: Any) -> Any:
+        value = message
+        for name, index in steps:
+            value = value[name] if isinstance(value, dict) else getattr(value, name)
+            if index is not None:
+                value = value[int(index)]
+        if isinstance(value, (bytes, bytearray)):  # uint8[] as the ROS 2 decoder gives it
+            return list(value)
+        return value if hasattr(value, "__len__") and not isinstance(value, str) else [value]
+    return read
 
 
 def numeric_fields(message: Any, prefix: str = "", depth: int = 0) -> list[str]:

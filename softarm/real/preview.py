@@ -20,8 +20,7 @@ def preview_log(log_path: Union[str, Path], png: Union[str, Path], settings: Imp
     with LogFile(log_path) as log:
         check_camera(log, settings)
         camera = CameraReader(log, settings)
-        camera.first_look([decode(data) for n, (_, _, data, decode) in enumerate(log.raw(settings.camera))
-                           if n % camera.every == 0])
+        camera.first_look(camera.samples())
         examples = camera.examples(count)
     threshold = f", Otsu threshold {camera.threshold:.0f}" if camera.threshold is not None else ""
     return write_preview(png, examples, f"{log_path.name} {settings.camera}: --mask {settings.mask}{threshold}")

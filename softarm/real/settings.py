@@ -18,7 +18,7 @@ class ImportSettings:
     roi: Optional[tuple[int, int, int, int]] = None  # x, y, width, height in the camera's own pixels
     width: int = field(default_factory=lambda: load_config().camera.width)   # the camera size the models use
     height: int = field(default_factory=lambda: load_config().camera.height)
-    frame_dt: Optional[float] = None  # s; None: the camera's own period
+    frame_dt: Optional[float] = field(default_factory=lambda: load_config().integration.frame_dt)  # s; None: the camera's period
     lag: Optional[float] = None      # s the sensors' stamps run ahead of the camera's; None: estimated
     max_lag: float = 0.25            # s: the lag is searched in [-max_lag, max_lag]
 
@@ -34,6 +34,18 @@ class ImportSettings:
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+
+def parse_frame_dt(text: Optional[str]) -> Optional[float]:
+    """'camera' -> None (the camera's own period), a number -> seconds, nothing -> the config's frame_dt."""
+    if text is None:
+        return load_config().integration.frame_dt
+    if text.strip().lower() == "camera":
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        raise ConfigError(f"--frame-dt {text!r}: give a period in seconds, or 'camera' for the camera's own") from None
 
 
 def parse_roi(text: Optional[str]) -> Optional[tuple[int, int, int, int]]:

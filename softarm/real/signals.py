@@ -3,11 +3,12 @@ acquisition times), or at their log times, with a warning, where the message typ
 
 import warnings
 from dataclasses import dataclass
+from typing import Any, Callable, Optional
 
 import numpy as np
 
 from softarm.errors import RecordingError
-from softarm.real.fields import field_values, header_stamp, parse_source
+from softarm.real.fields import attribute_reader, field_values, header_stamp, parse_source
 from softarm.real.log import LogFile
 
 
@@ -35,19 +36,24 @@ class SeriesReader:
         self.stamps: list[float] = []
         self.values: list[np.ndarray] = []
         self.headers = True
+        self._read: Optional[Callable[[object], Any]] = None
 
     def add(self, log_time: int, message: object) -> None:
         stamp = header_stamp(message)
         self.headers &= stamp is not None
         self.stamps.append(stamp if stamp is not None else log_time * 1e-9)
-        self.values.append(field_values(message, self.path, self.where))
+        if self._read is None:  # the first message checks the path; the rest are read by plain attribute access
+            self.values.append(field_values(message, self.path, self.where))
+            self._read = attribute_reader(self.path)
+        else:
+            self.values.append(self._read(message))
 
     def series(self) -> Series:
         """Every message's values, sorted by stamp, duplicate stamps dropped; one line for what cannot be used."""
         where = self.where
         if len(self.values) < 2:
             raise RecordingError(f"{where}: the log holds {len(self.values)} message(s) on it; a series needs two or more")
-        widths = {len(v) for v in self.values}
+        widths = {np.size(v) for v in self.values}
         if len(widths) != 1:
             raise RecordingError(f"{where}: its messages hold {sorted(widths)} values; every message needs as many")
         if not self.headers:
@@ -56,7 +62,11 @@ class SeriesReader:
                           stacklevel=2)
         stamps = np.asarray(self.stamps)
         order = np.argsort(stamps, kind="stable")
-        stamps, values = stamps[order], np.stack(self.values)[order]
+        try:
+            values = np.array(self.values, np.float64).reshape(len(self.values), -1)[order]
+        except (TypeError, ValueError):
+            raise RecordingError(f"{where}: some messages hold no numbers at {self.path}") from None
+        stamps = stamps[order]
         keep = np.concatenate([[True], np.diff(stamps) > 0])
         if not np.isfinite(values).all():
             raise RecordingError(f"{where}: some values are NaN or infinite")
