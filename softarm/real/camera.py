@@ -2,9 +2,9 @@
 once): a first look at a few frames fixes what the whole recording shares (the background, Otsu's threshold),
 then every frame is decoded, cut to the region of interest, segmented and area-averaged down."""
 
-import os
 import warnings
-from concurrent.futures import ThreadPoolExecutor
+from collections import deque
+from concurrent.futures import Future
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator, Optional, Sequence
@@ -16,12 +16,14 @@ from softarm.errors import ConfigError, RecordingError
 from softarm.real.fields import header_stamp
 from softarm.real.images import decode_image
 from softarm.real.log import LogFile
+from softarm.real.pool import segment_task, segmenting_pool
 from softarm.real.segment import MaskRule, downsample, otsu, parse_mask
 from softarm.real.settings import ImportSettings
 
 Other = dict[str, Callable[[int, object], None]]
 SAMPLES = 40  # frames the first look decodes
-BATCH = 64  # frames decoded at a time: memory stays bounded however long the log
+TASK = 16       # camera frames a worker segments per task
+IN_FLIGHT = 16  # tasks queued at a time
 SUPERSAMPLE = 1.5  # image pixels per camera pixel (each way) that a JPEG is decoded with, at least
 
 
@@ -53,11 +55,6 @@ class CameraReader:
         """(message, ROI pixels, camera size) of one decoded image message."""
         rgb, size = decode_image(message, self.where, self._least_scale)
         return message, self._roi(rgb, size), size
-
-    @property
-    def every(self) -> int:
-        """The first look decodes every `every`-th frame."""
-        return max(1, self.count // SAMPLES)
 
     def _least_scale(self, size: tuple[int, int]) -> float:
         """The smallest decoding scale that keeps SUPERSAMPLE image pixels per camera pixel across the ROI."""
@@ -92,27 +89,35 @@ class CameraReader:
             self.threshold = otsu(np.concatenate([self.rule.channel(p, self.background).ravel() for p in samples]))
 
     def samples(self) -> list[object]:
-        """Every `every`-th image message, decoded as messages (not yet as pixels): the first look's frames."""
-        return [decode(data) for n, (_, _, data, decode) in enumerate(self.log.raw(self.settings.camera))
-                if n % self.every == 0]
+        """SAMPLES image messages spread over the log, decoded as messages (not yet as pixels): the first look's."""
+        return self.log.spread(self.settings.camera, SAMPLES)
 
     def masks(self, progress: Callable[[int], None] = lambda n: None, others: Optional[Other] = None) -> Masks:
-        """Every frame's mask and stamp, in the log's order. Frames are decoded and segmented by a thread per core
-        (Pillow and NumPy release the GIL), at most BATCH frames at a time, while this thread reads the log and
-        hands the messages of other topics to `others` (topic -> a callback of log time and message)."""
-        stamps, masks, headers, sizes = [], [], [], set()
-        others = others or {}
-        with ThreadPoolExecutor(max_workers=max(1, len(os.sched_getaffinity(0)))) as pool:
-            batch: list[tuple[int, Callable[[bytes], object], bytes]] = []
+        """Every frame's mask and stamp, in the log's order. Frames are decoded and segmented in a worker process
+        per core, TASK frames a task and at most IN_FLIGHT tasks at a time (memory stays bounded however long the
+        log), while this process reads the log and hands the messages of other topics to `others` (topic -> a
+        callback of log time and message)."""
+        done: list[tuple[float, bool, np.ndarray, tuple[int, int]]] = []
+        others, task = others or {}, []
+        with segmenting_pool(self, self.log.decoder(self.settings.camera)) as pool:
+            pending: deque[Future] = deque()
             for topic, log_time, data, decode in self.log.raw(self.settings.camera, *others):
                 if topic != self.settings.camera:
                     others[topic](log_time, decode(data))
                     continue
-                batch.append((log_time, decode, data))
-                if len(batch) == BATCH:
-                    self._segment_batch(pool, batch, stamps, masks, headers, sizes)
-                    progress(len(masks))
-            self._segment_batch(pool, batch, stamps, masks, headers, sizes)
+                task.append((log_time, data))
+                if len(task) == TASK:
+                    pending.append(pool.submit(segment_task, task))
+                    task = []
+                while len(pending) > IN_FLIGHT or (pending and pending[0].done()):
+                    done.extend(pending.popleft().result())
+                    progress(len(done))
+            pending.append(pool.submit(segment_task, task))
+            for future in pending:
+                done.extend(future.result())
+        if not done:
+            raise RecordingError(f"{self.where} holds no image")
+        stamps, headers, masks, sizes = zip(*done)
         if not all(headers):
             warnings.warn(f"{self.where}: images without a header stamp are placed at their log time (when the "
                           "log received them), which lags acquisition by an unknown, varying transport delay",
@@ -120,20 +125,11 @@ class CameraReader:
         order = np.argsort(stamps, kind="stable")
         return Masks(np.asarray(stamps)[order], np.stack(masks)[order], self.threshold, all(headers), max(sizes))
 
-    def _segment_batch(self, pool: ThreadPoolExecutor, batch: list, stamps: list, masks: list, headers: list,
-                       sizes: set) -> None:
-        def one(item: tuple[int, Callable[[bytes], object], bytes]) -> tuple[float, bool, np.ndarray, tuple[int, int]]:
-            log_time, decode, data = item
-            message, pixels, size = self.decode(decode(data))
-            stamp = header_stamp(message)
-            return (stamp if stamp is not None else log_time * 1e-9), stamp is not None, self.segment(pixels), size
-
-        for stamp, header, mask, size in pool.map(one, batch):
-            stamps.append(stamp)
-            headers.append(header)
-            masks.append(mask)
-            sizes.add(size)
-        batch.clear()
+    def mask_of(self, log_time: int, message: object) -> tuple[float, bool, np.ndarray, tuple[int, int]]:
+        """(stamp, whether it is the header's, mask, camera size) of one decoded camera message."""
+        message, pixels, size = self.decode(message)
+        stamp = header_stamp(message)
+        return (stamp if stamp is not None else log_time * 1e-9), stamp is not None, self.segment(pixels), size
 
     def segment(self, pixels: np.ndarray) -> np.ndarray:
         """(height, width) uint8 0/1: the mask of one frame's ROI pixels at the models' camera size."""

@@ -2,6 +2,7 @@
 Imported recordings) that training, replay and the streamer read like a simulated one."""
 
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
@@ -18,7 +19,7 @@ from softarm.real.signals import Series, SeriesReader
 from softarm.real.write import write_imported
 
 PathLike = Union[str, Path]
-LAG_STEP = 0.01  # s between the lags the coarse search tries
+LAG_STEP = 0.02  # s between the lags the coarse search tries
 
 
 @dataclass(frozen=True)
@@ -49,8 +50,9 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     overlap in time and a mask that is empty everywhere."""
     log_path, out = Path(log_path), Path(out)
     check_outputs([out], force=force, inputs=[log_path])
-    with LogFile(log_path) as log:
+    with LogFile(log_path) as log, ThreadPoolExecutor(1) as hashing:
         check_camera(log, settings)
+        digest = hashing.submit(fingerprint, log_path)  # hashlib releases the GIL: it reads while the log is read
         camera = CameraReader(log, settings)
         camera.first_look(camera.samples())
         readers = [SeriesReader(log, settings.sensors, "--sensors")]
@@ -73,7 +75,7 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
                           rate(sensors.stamps), rate(drive.stamps) if drive is not None else None, dt, lag,
                           settings.lag is None, fit, grid.gaps.tolist(), dropped_frames(masks.stamps), overlap,
                           camera.threshold, coverage)
-    source = {"log": str(log_path), "sha256": fingerprint(log_path), "settings": settings.to_dict(),
+    source = {"log": str(log_path), "sha256": digest.result(), "settings": settings.to_dict(),
               "found": report.to_dict() | {"t0": float(grid.times[0]), "camera_size": list(masks.size),
                                            "header_stamps": {"camera": masks.header_stamps,
                                                              "sensors": sensors.header_stamps}}}

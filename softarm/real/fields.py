@@ -92,6 +92,11 @@ def numeric_fields(message: Any, prefix: str = "", depth: int = 0) -> list[str]:
 
 def header_stamp(message: Any) -> Optional[float]:
     """The acquisition time in s: a ROS header's stamp or a Foxglove message's `timestamp`; None without either."""
+    try:  # the common case, a ROS 2 message with a header, by plain attribute access
+        stamp = message.header.stamp
+        return stamp.sec + stamp.nanosec * 1e-9
+    except AttributeError:
+        pass
     names = field_names(message)
     stamp = None
     if "header" in names:

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, BinaryIO, Callable, Iterator, Optional
 
+import numpy as np
 import orjson
 from mcap.exceptions import McapError
 from mcap.reader import McapReader, make_reader
@@ -57,6 +58,7 @@ class LogFile:
             raise RecordingError(f"{self.path} has no summary section; run `mcap recover` on it first")
         self._factories = (Ros2Decoders(), ProtobufDecoders())
         counts = summary.statistics.channel_message_counts if summary.statistics else {}
+        self._summary = summary
         self.topics = {c.topic: Topic(c.topic, summary.schemas[c.schema_id].name if c.schema_id else "",
                                       c.message_encoding, counts.get(c.id, 0)) for c in summary.channels.values()}
 
@@ -98,6 +100,24 @@ class LogFile:
                 return decoder
         raise RecordingError(f"{self.path}: no decoder reads {topic} (message encoding {encoding!r}, schema "
                              f"{getattr(schema, 'name', None)!r}); softarm reads ROS 2 (cdr), protobuf and json messages")
+
+    def spread(self, topic: str, count: int) -> list[Any]:
+        """About `count` decoded messages of `topic` spread evenly over the log's time, read through its chunk
+        index (a few chunks, not the whole file)."""
+        stats = self._summary.statistics
+        decode, out = self.decoder(topic), []
+        if stats is None or count < 1:
+            return out
+        for start in np.linspace(stats.message_start_time, stats.message_end_time, count).astype(np.int64):
+            found = next(self._reader.iter_messages(topics=[topic], starting_at=int(start)), None)
+            if found is not None and (not out or found[2].log_time != out[-1][0]):
+                out.append((found[2].log_time, decode(found[2].data)))
+        return [message for _, message in out]
+
+    def decoder(self, topic: str) -> Callable[[bytes], Any]:
+        """The decoder of a topic's messages, from the log's summary (before any pass over its messages)."""
+        channel = next(c for c in self._summary.channels.values() if c.topic == topic)
+        return self._decoder(channel.message_encoding, self._summary.schemas.get(channel.schema_id), topic)
 
     def messages(self, topic: str) -> Iterator[tuple[int, Any]]:
         """(log time ns, decoded message) for each message on `topic`."""

@@ -26,13 +26,19 @@ def write_imported(path: Path, times: np.ndarray, frame_dt: float, frames: np.nd
     try:
         mcap.writer.add_metadata(META_MODEL, {"format": FORMAT, "model": orjson.dumps(model).decode()})
         stamps = np.round(times * 1e9).astype(np.int64).tolist()
-        pixels = (frames * 255).astype(np.uint8)
-        for k, ns in enumerate(stamps):
-            messages = {IMAGE: mcap.images(pixels[k:k + 1], [ns])} if seen[k] else {}
-            messages[STRETCH] = [orjson.dumps({"t": ns / 1e9, "stretch": stretch[k].tolist()})]
+        images = iter(mcap.images((frames[seen] * 255).astype(np.uint8), [ns for ns, k in zip(stamps, seen) if k]))
+        rows = stretch.tolist()
+        channels, logged, data = [], [], []
+        for k, ns in enumerate(stamps):  # a frame's messages in the order of the topics' table
+            parts = [(IMAGE, next(images))] if seen[k] else []
+            parts.append((STRETCH, orjson.dumps({"t": ns / 1e9, "stretch": rows[k]})))
             if drive is not None:
-                messages[EXCITATION] = [orjson.dumps({"t": ns / 1e9, "displacement": float(drive[k])})]
-            mcap.add_frames([ns], messages)
+                parts.append((EXCITATION, orjson.dumps({"t": ns / 1e9, "displacement": float(drive[k])})))
+            for topic, message in parts:
+                channels.append(mcap.channels[topic])
+                logged.append(ns)
+                data.append(message)
+        mcap.writer.add_messages(channels, logged, data)
         return mcap.close({META_RUN: {"complete": "true", "frames": str(len(stamps))}})
     except BaseException:
         mcap.discard()
