@@ -52,6 +52,8 @@ def fit_baselines(state: TrainState) -> Baselines:
     the privileged ridge from 2 s of inputs to the node positions (node_ridge.py)."""
     t, data = state.config.train, state.data
     windows, targets = data.windows("train", t.history, t.lead)
+    seen = data.seen(targets)  # a camera's gap is no target
+    windows, targets = windows[seen], targets[seen]
     ridge = ridge_fit(state.inputs.normalise(windows), state.latent_scaler.forward(state.codes().of(targets)))
     nodes = node_ridge.fit([(state.inputs.normalise(s.inputs), s.positions, s.segment("train")[1])
                             for s in data.sequences if s.positions is not None], t.lead)

@@ -7,10 +7,9 @@ from collections import deque
 from concurrent.futures import Future
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Iterator, Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
-from PIL import Image
 
 from softarm.errors import ConfigError, RecordingError
 from softarm.real.fields import header_stamp
@@ -44,12 +43,6 @@ class CameraReader:
         self.where = f"{log.path}:{settings.camera}"
         self.background: Optional[np.ndarray] = None
         self.threshold: Optional[float] = None
-
-    def _frames(self, every: int = 1) -> Iterator[tuple[int, object, np.ndarray, tuple[int, int]]]:
-        """(log time, message, ROI pixels, camera size) of every `every`-th camera frame."""
-        for n, (_, log_time, data, decode) in enumerate(self.log.raw(self.settings.camera)):
-            if n % every == 0:
-                yield (log_time, *self.decode(decode(data)))
 
     def decode(self, message: object) -> tuple[object, np.ndarray, tuple[int, int]]:
         """(message, ROI pixels, camera size) of one decoded image message."""
@@ -136,10 +129,23 @@ class CameraReader:
         values = self.rule.channel(pixels, self._fit(self.background, pixels))
         return downsample(self.rule.apply(values, self.threshold), self.settings.width, self.settings.height)
 
-    def examples(self, count: int) -> list[tuple[np.ndarray, np.ndarray]]:
-        """(ROI pixels, mask) of `count` frames spread over the log, for a preview."""
-        every = max(1, self.count // max(count, 1))
-        return [(pixels, self.segment(pixels)) for _, _, pixels, _ in self._frames(every)][:count]
+    def examples(self, count: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """(the whole frame with the region of interest outlined, ROI pixels, mask) of `count` frames spread over
+        the log, for a preview."""
+        from PIL import Image, ImageDraw  # loaded when an image is met: importing softarm stays light
+
+        out = []
+        for message in self.log.spread(self.settings.camera, count):
+            rgb, size = decode_image(message, self.where, self._least_scale)
+            pixels = self._roi(rgb, size)
+            framed = Image.fromarray(rgb)
+            if self.settings.roi is not None:
+                x, y, w, h = self.settings.roi
+                fx, fy = rgb.shape[1] / size[0], rgb.shape[0] / size[1]
+                ImageDraw.Draw(framed).rectangle((x * fx, y * fy, (x + w) * fx - 1, (y + h) * fy - 1),
+                                                 outline=(255, 255, 0), width=2)
+            out.append((np.asarray(framed), pixels, self.segment(pixels)))
+        return out
 
     @staticmethod
     def _fit(background: Optional[np.ndarray], pixels: np.ndarray) -> Optional[np.ndarray]:
@@ -147,6 +153,8 @@ class CameraReader:
 
 
 def _background_file(path: Path, shape: tuple[int, ...]) -> np.ndarray:
+    from PIL import Image  # loaded when an image is met: importing softarm stays light
+
     try:
         image = Image.open(path).convert("RGB")
     except (OSError, ValueError) as e:

@@ -10,7 +10,6 @@ import math
 from typing import Any, Callable
 
 import numpy as np
-from PIL import Image
 
 from softarm.errors import RecordingError
 
@@ -33,6 +32,8 @@ def decode_image(message: Any, where: str, scale: Scale = lambda size: 1.0) -> t
 
 
 def _compressed(data: bytes, fmt: str, where: str, scale: Scale) -> tuple[np.ndarray, tuple[int, int]]:
+    from PIL import Image  # loaded when an image is met: importing softarm stays light
+
     words = fmt.lower().replace(";", " ").split()  # ROS: "jpeg", or "rgb8; jpeg compressed bgr8"
     kind = next((k for k in COMPRESSED if k in words), None)
     if kind is None:

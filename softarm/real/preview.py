@@ -10,7 +10,7 @@ from softarm.real.log import LogFile
 from softarm.real.settings import ImportSettings
 
 
-def preview_log(log_path: Union[str, Path], png: Union[str, Path], settings: ImportSettings, count: int = 6,
+def preview_log(log_path: Union[str, Path], png: Union[str, Path], settings: ImportSettings, count: int = 4,
                 force: bool = False) -> Path:
     """Write `png`: `count` frames spread over the log, each with its mask as the import would make it."""
     from softarm.view.preview import write_preview  # PIL drawing: only when a preview is asked for

@@ -7,18 +7,19 @@ sensor/drive controller whose clock runs `sensor_offset` ahead, with jittered st
 """
 
 import heapq
-import io
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator
+from typing import TYPE_CHECKING, Any, Iterator
 
 import numpy as np
 from mcap.writer import CompressionType
 from mcap_ros2.writer import Writer
-from PIL import Image, ImageChops, ImageDraw, ImageFilter
 
 from softarm.record.reader import Recording, read_recording
+
+if TYPE_CHECKING:
+    from softarm.real.robot_camera import ArmCamera
 
 _SEP = "\n" + "=" * 80 + "\nMSG: "
 _TIME = "int32 sec\nuint32 nanosec\n"
@@ -35,9 +36,6 @@ _DEFINITIONS: dict[str, tuple[str, tuple[tuple[str, str], ...]]] = {
         ("std_msgs/MultiArrayLayout", "MultiArrayDimension[] dim\nuint32 data_offset\n"),
         ("std_msgs/MultiArrayDimension", "string label\nuint32 size\nuint32 stride\n"))),
 }
-_ARM_RGB = (215, 95, 35)
-_SUPERSAMPLE = 4
-_NOISE_PAD = 61
 
 
 @dataclass(frozen=True)
@@ -73,92 +71,11 @@ class RobotLog:
     camera_times: np.ndarray        # (frames,) recording time (s) of each written camera frame
 
 
-class _Camera:
-    """The big camera: a fixed textured scene, the arm drawn over it each frame, then flicker and noise."""
-
-    def __init__(self, rec: Recording, settings: RobotLogSettings, rng: np.random.Generator):
-        small_h, small_w = rec.frames.shape[1:]
-        self.s = min(settings.width // small_w, settings.height // small_h)
-        if self.s < 1:
-            raise ValueError(f"a {settings.width}x{settings.height} image cannot hold the {small_w}x{small_h} view")
-        self.roi = ((settings.width - self.s * small_w) // 2, (settings.height - self.s * small_h) // 2,
-                    self.s * small_w, self.s * small_h)
-        self.settings, self.rng, self.size = settings, rng, (settings.width, settings.height)
-        self.M, self.outline = rec.world_to_pixel, np.asarray(rec.model["outline"], np.int64)
-        self.background = _texture(settings, rng)
-        if settings.blur > 0:  # the scene is fixed: blur it once (blur is linear; the arm's edge is blurred below)
-            self.background = self.background.filter(ImageFilter.GaussianBlur(settings.blur))
-        yy, xx = np.mgrid[0:settings.height, 0:settings.width]
-        shade = 1.05 - 0.1 * yy / settings.height - 0.04 * xx / settings.width
-        self.arm = Image.fromarray(np.clip(np.multiply.outer(shade, _ARM_RGB), 0, 255).astype(np.uint8))
-        bank = rng.normal(128.0, settings.pixel_noise, (settings.height + _NOISE_PAD, settings.width + _NOISE_PAD, 3))
-        self.noise = Image.fromarray(np.clip(np.rint(bank), 0, 255).astype(np.uint8))
-
-    def arm_patch(self, nodes: np.ndarray) -> tuple[tuple[int, int], Image.Image] | None:
-        """Where the arm lies and its coverage (0..255) there: the outline polygon, supersampled, then blurred."""
-        p = nodes[self.outline] @ self.M[:, :2].T + self.M[:, 2]
-        q = np.array(self.roi[:2]) + self.s * p  # model pixel [u, u+1) -> big pixels [x + s*u, x + s*(u+1))
-        margin = int(3 * self.settings.blur) + 2
-        lo = np.clip(np.floor(q.min(0)).astype(int) - margin, 0, self.size)
-        hi = np.clip(np.ceil(q.max(0)).astype(int) + margin, 0, self.size)
-        if np.any(hi <= lo):
-            return None
-        sub = Image.new("L", tuple(int(v) for v in _SUPERSAMPLE * (hi - lo)), 0)
-        # PIL puts pixel i at coordinate i: shift by half a pixel so that a pixel is filled when its centre is inside
-        ImageDraw.Draw(sub).polygon([tuple(v) for v in (_SUPERSAMPLE * (q - lo) - 0.5).tolist()], fill=255)
-        mask = sub.reduce(_SUPERSAMPLE)
-        if self.settings.blur > 0:
-            mask = mask.filter(ImageFilter.GaussianBlur(self.settings.blur))
-        return (int(lo[0]), int(lo[1])), mask
-
-    def image(self, nodes: np.ndarray) -> Image.Image:
-        """One camera frame of the arm at these node positions (m)."""
-        img = self.background.copy()
-        if (patch := self.arm_patch(nodes)) is not None:
-            (x, y), mask = patch
-            img.paste(self.arm.crop((x, y, x + mask.width, y + mask.height)), (x, y), mask)
-        gain = self.rng.normal(1.0, self.settings.light_noise)
-        img = img.point(np.clip(np.rint(np.arange(256) * gain), 0, 255).astype(np.uint8).tolist() * 3)
-        if self.settings.pixel_noise > 0:
-            dx, dy = (int(v) for v in self.rng.integers(0, _NOISE_PAD, 2))
-            noise = self.noise.crop((dx, dy, dx + self.size[0], dy + self.size[1]))
-            img = ImageChops.add(img, noise, 1.0, -128)  # saturating img + noise - 128
-        return img
-
-    def message(self, nodes: np.ndarray, stamp_ns: int) -> dict[str, Any]:
-        """The ROS message of one frame, in the settings' format."""
-        img, fmt = self.image(nodes), self.settings.image_format
-        header = _header(stamp_ns, "camera")
-        if fmt == "rgb8":
-            return {"header": header, "height": self.size[1], "width": self.size[0], "encoding": "rgb8",
-                    "is_bigendian": 0, "step": 3 * self.size[0], "data": img.tobytes()}
-        buffer = io.BytesIO()
-        options = {"quality": self.settings.jpeg_quality} if fmt == "jpeg" else {"compress_level": 3}
-        img.save(buffer, fmt.upper(), **options)
-        return {"header": header, "format": f"rgb8; {fmt} compressed bgr8", "data": buffer.getvalue()}
-
-
-def _texture(settings: RobotLogSettings, rng: np.random.Generator) -> Image.Image:
-    """A fixed, smooth, greyish blue-green lab scene: upsampled coarse noise, faint stripes and a few blobs."""
-    w, h = settings.width, settings.height
-    coarse = rng.normal(0.0, 7.0, (6, 8, 3)) + rng.normal(0.0, 14.0, (6, 8, 1))
-    smooth = Image.fromarray(np.clip(coarse + 128, 0, 255).astype(np.uint8)).resize((w, h), Image.BICUBIC)
-    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
-    scene = np.asarray(smooth, np.float32) - 128 + np.array([98.0, 128.0, 126.0], np.float32)
-    angle, period = rng.uniform(0, np.pi), rng.uniform(30, 60)
-    scene += 5.0 * np.sin(2 * np.pi * (xx * np.cos(angle) + yy * np.sin(angle)) / period)[..., None]
-    for cx, cy, r, level in zip(rng.uniform(0, w, 6), rng.uniform(0, h, 6), rng.uniform(15, 60, 6),
-                                rng.uniform(-35, 25, 6)):
-        scene += level * np.exp(-((xx - cx) ** 2 + (yy - cy) ** 2) / (2 * r * r))[..., None]
-    scene[..., 0] = np.minimum(scene[..., 0], scene[..., 1] - 10)  # never orange: red stays below green
-    return Image.fromarray(np.clip(scene, 20, 235).astype(np.uint8))
-
-
 def _ns(seconds: Any) -> Any:
     return np.rint(np.asarray(seconds, np.float64) * 1e9).astype(np.int64)
 
 
-def _header(stamp_ns: int, frame_id: str) -> dict[str, Any]:
+def ros_header(stamp_ns: int, frame_id: str) -> dict[str, Any]:
     return {"stamp": {"sec": int(stamp_ns // 1_000_000_000), "nanosec": int(stamp_ns % 1_000_000_000)},
             "frame_id": frame_id}
 
@@ -183,7 +100,7 @@ def _sensor_stamps(true_ns: np.ndarray, settings: RobotLogSettings, rng: np.rand
 
 
 def _streams(rec: Recording, settings: RobotLogSettings, rng: np.random.Generator,
-             camera: _Camera) -> tuple[Iterator[tuple], Iterator[tuple], Iterator[tuple], tuple, np.ndarray]:
+             camera: "ArmCamera") -> tuple[Iterator[tuple], Iterator[tuple], Iterator[tuple], tuple, np.ndarray]:
     """The three topics' (log_time, topic, message) streams, each in log-time order, rendered lazily."""
     true_ns = _ns(settings.start) + _ns(rec.times)
     shown, dropped = _camera_plan(len(rec.times), rec.frame_dt, settings, rng)
@@ -197,11 +114,11 @@ def _streams(rec: Recording, settings: RobotLogSettings, rng: np.random.Generato
     images = ((int(camera_log[j]), topic, camera.message(rec.positions[shown[j]], int(true_ns[shown[j]])))
               for j in kept)
     stretches = ((int(stretch_log[k]), "/arm/stretch",
-                  {"header": _header(int(stretch_ns[k]), "arm"), "data": stretch[k].tolist()} if settings.sensor_header
+                  {"header": ros_header(int(stretch_ns[k]), "arm"), "data": stretch[k].tolist()} if settings.sensor_header
                   else {"layout": {"dim": [], "data_offset": 0}, "data": stretch[k].tolist()})
                  for k in range(len(true_ns)))
     drives = ((int(true_ns[k]) + 1_000_000, "/arm/command",
-               {"header": _header(int(drive_ns[k]), "arm"), "name": ["top"],
+               {"header": ros_header(int(drive_ns[k]), "arm"), "name": ["top"],
                 "position": [float(rec.displacement[k])], "velocity": [], "effort": []})
               for k in range(len(true_ns)))
     return images, stretches, drives, tuple(int(j) for j in dropped), rec.times[shown[kept]]
@@ -221,7 +138,9 @@ def make_robot_log(recording: str | Path, out: str | Path,
         raise ValueError(f"image_format must be jpeg, png or rgb8, not {settings.image_format!r}")
     rec = read_recording(recording)
     rng = np.random.default_rng(settings.seed)
-    camera = _Camera(rec, settings, rng)
+    from softarm.real.robot_camera import ArmCamera  # PIL: only when a log is made
+
+    camera = ArmCamera(rec, settings, rng)
     images, stretches, drives, dropped, camera_times = _streams(rec, settings, rng, camera)
     types = {_camera_topic(settings)[0]: _camera_topic(settings)[1],
              "/arm/stretch": "softarm_msgs/msg/Stretch" if settings.sensor_header else "std_msgs/msg/Float32MultiArray",

@@ -11,7 +11,6 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
-from PIL import Image
 
 from softarm.errors import ConfigError
 
@@ -68,6 +67,8 @@ class HsvRange(MaskRule):
     value: tuple[float, float]
 
     def channel(self, rgb: np.ndarray, background: Optional[np.ndarray]) -> np.ndarray:
+        from PIL import Image  # loaded when an image is met: importing softarm stays light
+
         hsv = np.asarray(Image.fromarray(rgb).convert("HSV"), np.float32)
         hsv[..., 0] *= 360.0 / 256.0
         return hsv
@@ -95,6 +96,8 @@ def parse_mask(text: str) -> MaskRule:
 
 def channel_values(rgb: np.ndarray, name: str) -> np.ndarray:
     """(H, W) float32 of one channel, 0..255 (hue in degrees)."""
+    from PIL import Image  # loaded when an image is met: importing softarm stays light
+
     if name in "rgb":
         return rgb[..., "rgb".index(name)].astype(np.float32)
     if name == "gray":
@@ -123,5 +126,7 @@ def otsu(values: np.ndarray) -> float:
 
 def downsample(mask: np.ndarray, width: int, height: int) -> np.ndarray:
     """(height, width) uint8 0/1: the share of arm pixels over each camera pixel (area average), at least half."""
+    from PIL import Image  # loaded when an image is met: importing softarm stays light
+
     covered = Image.fromarray(mask.astype(np.float32)).resize((width, height), Image.Resampling.BOX)
     return (np.asarray(covered) >= 0.5).astype(np.uint8)

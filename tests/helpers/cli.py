@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 SOFTARM = str(Path(sys.executable).with_name("softarm"))
+RERUN = str(Path(sys.executable).with_name("rerun"))  # rerun-sdk's command line, beside the interpreter
 
 
 def softarm(*args: str, cwd: Path, timeout: float = 120, **kwargs) -> subprocess.CompletedProcess:

@@ -3,8 +3,6 @@ softarm, blind segments change the fused view and split the metrics, mismatches 
 
 import json
 import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,9 +11,7 @@ from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
 from softarm.imagine.replay import compute_replay
-from tests.helpers.cli import assert_one_line_error, softarm
-
-RERUN = str(Path(sys.executable).with_name("rerun"))
+from tests.helpers.cli import RERUN, assert_one_line_error, softarm
 
 
 @pytest.fixture(scope="module")

@@ -47,3 +47,26 @@ def test_an_imported_recording_opens_in_a_plain_mcap_reader(imported):
     assert images[0].encoding == "mono8" and (images[0].width, images[0].height) == (52, 84)
     assert meta["softarm.run"] == {"complete": "true", "frames": str(report.frames)}
     assert model["source"]["found"]["lag"] == report.lag and "sha256" in model["source"]
+
+
+def test_the_preview_shows_frames_beside_their_masks(robot_bag, tmp_path):
+    from PIL import Image
+
+    from softarm.real.preview import preview_log
+    from softarm.real.settings import ImportSettings
+
+    settings = ImportSettings(robot_bag.camera_topic, f"{robot_bag.stretch_topic}:data", roi=robot_bag.roi)
+    png = preview_log(robot_bag.path, tmp_path / "p.png", settings, count=3)
+    image = Image.open(png)
+    assert image.height > 200 and image.width > 3 * 3 * 100 and not (tmp_path / "p.png.part").exists()
+
+
+def test_an_imported_recording_opens_in_rerun(imported, tmp_path):
+    import subprocess
+
+    from tests.helpers.cli import RERUN
+
+    _, path = imported
+    assert subprocess.run([RERUN, "mcap", "convert", str(path), "-o", str(tmp_path / "i.rrd")],
+                          capture_output=True).returncode == 0
+    assert subprocess.run([RERUN, "rrd", "verify", str(tmp_path / "i.rrd")], capture_output=True).returncode == 0

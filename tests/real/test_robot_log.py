@@ -12,7 +12,7 @@ from mcap.stream_reader import StreamReader
 from mcap_ros2.decoder import DecoderFactory
 from PIL import Image
 
-from softarm.real import robot_log
+from softarm.real import robot_camera
 from softarm.real.robot_log import RobotLogSettings, make_robot_log
 from softarm.record.reader import read_recording
 
@@ -123,7 +123,7 @@ def test_a_failed_write_leaves_no_file(recordings, tmp_path, monkeypatch):
     def broken(*_):
         raise RuntimeError("camera unplugged")
 
-    monkeypatch.setattr(robot_log._Camera, "image", broken)
+    monkeypatch.setattr(robot_camera.ArmCamera, "image", broken)
     with pytest.raises(RuntimeError, match="camera unplugged"):
         make_robot_log(recordings / "three_sensors.mcap", tmp_path / "bag.mcap")
     assert list(tmp_path.iterdir()) == []

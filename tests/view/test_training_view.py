@@ -1,7 +1,6 @@
 """TrainingView writes an .rrd that rerun itself accepts and reads back to what was logged (no viewer spawned)."""
 
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -10,8 +9,8 @@ import pytest
 import rerun as rr
 
 from softarm.view.training_view import TrainingView
+from tests.helpers.cli import RERUN
 
-RERUN = Path(sys.executable).with_name("rerun")
 TIMES = np.arange(5) * 0.04
 LOSSES = {"ae_train": [0.9, 0.5, 0.3], "ae_test": [1.0, 0.7, 0.6]}
 
