@@ -79,4 +79,4 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
                   channels=[(c.name, w) for c, w in zip(model.imaginer.inputs.channels, model.imaginer.inputs.widths)],
                   imagined=imagined, predicted=predicted, iou=iou, confidence=confidence, blind=mask, fused=fused,
                   metrics=metrics,
-                  nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if rec.positions is not None else None)
+                  nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if nodes and rec.positions is not None else None)

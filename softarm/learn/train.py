@@ -45,7 +45,8 @@ def schedules(state: TrainState) -> tuple[Schedule, Schedule]:
     so that a corpus of any size trains in bounded time while one recording trains as many epochs as asked."""
     t, data = state.config.train, state.data
     ae_steps = math.ceil(data.count("train") / t.batch_ae)
-    latent_steps = latent_model_class(t.model).steps_per_epoch([s.segment("train")[1] for s in data.sequences], t)
+    latent_steps = latent_model_class(t.model).steps_per_epoch([s.segment("train")[1] for s in data.sequences], t,
+                                                               [s.seen for s in data.sequences])
     return tuple(Schedule(per_epoch, min(epochs * per_epoch, cap) if cap > 0 else epochs * per_epoch)
                  for per_epoch, epochs, cap in ((ae_steps, t.epochs_ae, t.max_steps_ae),
                                                 (latent_steps, t.epochs_lstm, t.max_steps_lstm)))

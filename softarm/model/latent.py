@@ -112,8 +112,10 @@ class LatentModel(nn.Module):
         raise NotImplementedError
 
     @classmethod
-    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig) -> int:
-        """Optimisation steps of one epoch over recordings whose training segments end at `train_ends`."""
+    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig,
+                        seen: Sequence[Optional[np.ndarray]] = ()) -> int:
+        """Optimisation steps of one epoch over recordings whose training segments end at `train_ends` (`seen`:
+        each recording's camera frames, None for all, where a camera has gaps)."""
         raise NotImplementedError
 
     def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:

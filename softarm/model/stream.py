@@ -54,7 +54,8 @@ class StreamModel(LatentModel):
         return StreamReader(self)
 
     @classmethod
-    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig) -> int:
+    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig,
+                        seen: Sequence[Optional[np.ndarray]] = ()) -> int:
         return pieces.steps_per_epoch(train_ends, train.streams, train.sequence, train.sequence, train.lead)
 
     def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:

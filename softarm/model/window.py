@@ -45,8 +45,12 @@ class WindowLSTM(LatentModel):
         return WindowReader(self)
 
     @classmethod
-    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig) -> int:
-        pairs = sum(window_count(end, train.history, train.lead) for end in train_ends)
+    def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig,
+                        seen: Sequence[Optional[np.ndarray]] = ()) -> int:
+        first = train.history - 1 + train.lead  # the frame the first window imagines
+        masks = list(seen) or [None] * len(train_ends)
+        pairs = sum(window_count(end, train.history, train.lead) if mask is None else int(mask[first:end].sum())
+                    for end, mask in zip(train_ends, masks))
         return math.ceil(pairs / train.batch_lstm)
 
     def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:

@@ -8,6 +8,7 @@ from typing import Optional
 import numpy as np
 
 RIDGE = 0.1   # the lag search's ridge penalty, relative to the mean diagonal of the masks' Gram matrix
+MOST_FRAMES = 4000  # camera frames the lag search reads at most, evenly spread: its memory stays bounded
 RIVAL = 0.05  # a second peak within this share of the best fit is reported as a rival lag
 
 
@@ -75,11 +76,15 @@ def estimate_lag(camera_times: np.ndarray, masks: np.ndarray, stamps: np.ndarray
     to the sensors, fitted on every other frame and scored on the rest, predicts best at the true lag: a
     cross-correlation of the two streams that needs no model of the arm. A coarse search every `step` over
     [-most, most] is refined by a finer one around its best."""
-    usable = (camera_times - most >= stamps[0]) & (camera_times + most <= stamps[-1]) & masks.any(axis=(1, 2))
-    if usable.sum() < 20:
+    usable = np.flatnonzero((camera_times - most >= stamps[0]) & (camera_times + most <= stamps[-1])
+                            & masks.any(axis=(1, 2)))
+    if len(usable) < 20:
         raise ValueError("too few frames inside the sensors' time for the search range")
-    pixels = masks[usable][:, ::2, ::2].reshape(int(usable.sum()), -1).astype(np.float64)
+    usable = usable[np.linspace(0, len(usable) - 1, min(len(usable), MOST_FRAMES)).round().astype(int)]
+    pixels = masks[usable][:, ::2, ::2].reshape(len(usable), -1).astype(np.float64)
     pixels = pixels[:, pixels.std(axis=0) > 0]
+    if pixels.shape[1] == 0:
+        raise ValueError("the masks never change, so they cannot be matched to the sensors")
     pixels -= pixels.mean(axis=0)
     fit_on = np.arange(len(pixels)) % 2 == 0
     a, b = pixels[fit_on], pixels[~fit_on]
@@ -96,7 +101,7 @@ def estimate_lag(camera_times: np.ndarray, masks: np.ndarray, stamps: np.ndarray
     coarse = np.arange(-most, most + step / 2, step)
     scores = np.array([score(lag) for lag in coarse])
     best = int(np.argmax(scores))
-    fine = np.linspace(coarse[best] - step, coarse[best] + step, 21)
+    fine = np.linspace(max(coarse[best] - step, -most), min(coarse[best] + step, most), 21)
     fine_scores = np.array([score(lag) for lag in fine])
     peaks = [i for i in range(1, len(coarse) - 1) if scores[i] >= max(scores[i - 1], scores[i + 1])
              and abs(i - best) > 2 and scores[i] >= scores[best] - RIVAL * abs(scores[best])]

@@ -4,7 +4,8 @@ then every frame is decoded, cut to the region of interest, segmented and area-a
 
 import warnings
 from collections import deque
-from concurrent.futures import Future
+from concurrent.futures import Executor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Optional, Sequence
@@ -15,7 +16,7 @@ from softarm.errors import ConfigError, RecordingError
 from softarm.real.fields import header_stamp
 from softarm.real.images import decode_image
 from softarm.real.log import LogFile
-from softarm.real.pool import segment_task, segmenting_pool
+from softarm.real.pool import segment_task
 from softarm.real.segment import MaskRule, downsample, otsu, parse_mask
 from softarm.real.settings import ImportSettings
 
@@ -30,7 +31,6 @@ SUPERSAMPLE = 1.5  # image pixels per camera pixel (each way) that a JPEG is dec
 class Masks:
     stamps: np.ndarray      # (N,) s, the camera's (header stamps, or log times where it has none)
     masks: np.ndarray       # (N, H, W) uint8 0/1 at the models' camera size
-    threshold: Optional[float]  # Otsu's, where the rule asked for it
     header_stamps: bool
     size: tuple[int, int]   # the camera's own (width, height)
 
@@ -39,7 +39,6 @@ class CameraReader:
     def __init__(self, log: LogFile, settings: ImportSettings):
         self.log, self.settings = log, settings
         self.rule: MaskRule = parse_mask(settings.mask)
-        self.count = log.topics[settings.camera].messages
         self.where = f"{log.path}:{settings.camera}"
         self.background: Optional[np.ndarray] = None
         self.threshold: Optional[float] = None
@@ -69,15 +68,15 @@ class CameraReader:
         """The background (median of frames across the log, or an image file) and Otsu's threshold, from a few
         image messages spread over the log."""
         background = self.settings.background
-        samples = [self.decode(message)[1] for message in messages]
-        if not samples:
+        decoded = [self.decode(message) for message in messages]
+        if not decoded:
             raise RecordingError(f"{self.where} holds no image")
-        shape = min(p.shape for p in samples)
-        samples = [p[:shape[0], :shape[1]] for p in samples]
+        shape = tuple(min(p.shape[i] for _, p, _ in decoded) for i in (0, 1))
+        samples = [p[:shape[0], :shape[1]] for _, p, _ in decoded]
         if background == "median":
             self.background = np.median(np.stack(samples), axis=0).astype(np.int16)
         elif background is not None:
-            self.background = _background_file(Path(background), shape)
+            self.background = _background_file(Path(background), shape, decoded[0][2], self.settings.roi)
         if self.rule.needs_otsu:
             self.threshold = otsu(np.concatenate([self.rule.channel(p, self.background).ravel() for p in samples]))
 
@@ -85,15 +84,15 @@ class CameraReader:
         """SAMPLES image messages spread over the log, decoded as messages (not yet as pixels): the first look's."""
         return self.log.spread(self.settings.camera, SAMPLES)
 
-    def masks(self, progress: Callable[[int], None] = lambda n: None, others: Optional[Other] = None) -> Masks:
-        """Every frame's mask and stamp, in the log's order. Frames are decoded and segmented in a worker process
-        per core, TASK frames a task and at most IN_FLIGHT tasks at a time (memory stays bounded however long the
-        log), while this process reads the log and hands the messages of other topics to `others` (topic -> a
+    def masks(self, pool: Executor, progress: Callable[[int], None] = lambda n: None,
+              others: Optional[Other] = None) -> Masks:
+        """Every frame's mask and stamp, in the log's order. Frames are decoded and segmented in the `pool`
+        (`pool.segmenting_pool`, a worker process per core), TASK frames a task and at most IN_FLIGHT tasks at a
+        time, while this process reads the log and hands the messages of other topics to `others` (topic -> a
         callback of log time and message)."""
         done: list[tuple[float, bool, np.ndarray, tuple[int, int]]] = []
-        others, task = others or {}, []
-        with segmenting_pool(self, self.log.decoder(self.settings.camera)) as pool:
-            pending: deque[Future] = deque()
+        others, task, pending = others or {}, [], deque()
+        try:
             for topic, log_time, data, decode in self.log.raw(self.settings.camera, *others):
                 if topic != self.settings.camera:
                     others[topic](log_time, decode(data))
@@ -106,8 +105,11 @@ class CameraReader:
                     done.extend(pending.popleft().result())
                     progress(len(done))
             pending.append(pool.submit(segment_task, task))
-            for future in pending:
-                done.extend(future.result())
+            while pending:
+                done.extend(pending.popleft().result())
+        except BrokenProcessPool:
+            raise RecordingError("a process segmenting camera frames died (out of memory?); nothing was written"
+                                 ) from None
         if not done:
             raise RecordingError(f"{self.where} holds no image")
         stamps, headers, masks, sizes = zip(*done)
@@ -116,7 +118,10 @@ class CameraReader:
                           "log received them), which lags acquisition by an unknown, varying transport delay",
                           stacklevel=2)
         order = np.argsort(stamps, kind="stable")
-        return Masks(np.asarray(stamps)[order], np.stack(masks)[order], self.threshold, all(headers), max(sizes))
+        if len(set(sizes)) > 1:
+            raise RecordingError(f"{self.where}: the camera's frames change size ({sorted(sizes)}); import each part "
+                                 "of the log apart")
+        return Masks(np.asarray(stamps)[order], np.stack(masks)[order], all(headers), sizes[0])
 
     def mask_of(self, log_time: int, message: object) -> tuple[float, bool, np.ndarray, tuple[int, int]]:
         """(stamp, whether it is the header's, mask, camera size) of one decoded camera message."""
@@ -152,11 +157,18 @@ class CameraReader:
         return None if background is None else background[:pixels.shape[0], :pixels.shape[1]]
 
 
-def _background_file(path: Path, shape: tuple[int, ...]) -> np.ndarray:
+def _background_file(path: Path, shape: tuple[int, ...], camera: tuple[int, int],
+                     roi: Optional[tuple[int, int, int, int]]) -> np.ndarray:
+    """A background photo of the camera's own size, cut to the region of interest and scaled as frames are."""
     from PIL import Image  # loaded when an image is met: importing softarm stays light
 
     try:
         image = Image.open(path).convert("RGB")
     except (OSError, ValueError) as e:
         raise ConfigError(f"--background {path}: not a readable image ({e})") from None
-    return np.asarray(image.resize((shape[1], shape[0]), Image.Resampling.BILINEAR), np.int16)
+    if image.size != camera:
+        raise ConfigError(f"--background {path} is {image.size[0]}x{image.size[1]}, but the camera's frames are "
+                          f"{camera[0]}x{camera[1]}: give a frame of the same camera")
+    if roi is not None:
+        image = image.crop((roi[0], roi[1], roi[0] + roi[2], roi[1] + roi[3]))
+    return np.asarray(image.resize((shape[1], shape[0]), Image.Resampling.BOX), np.int16)

@@ -2,7 +2,6 @@
 Imported recordings) that training, replay and the streamer read like a simulated one."""
 
 import warnings
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
@@ -14,12 +13,14 @@ from softarm.files import check_outputs, claimed, fingerprint, made_folders
 from softarm.real.align import Grid, camera_period, dropped_frames, estimate_lag, frame_grid, interpolate, rate
 from softarm.real.camera import CameraReader, Masks
 from softarm.real.log import LogFile
+from softarm.real.pool import segmenting_pool
 from softarm.real.settings import ImportSettings
 from softarm.real.signals import Series, SeriesReader
 from softarm.real.write import write_imported
 
 PathLike = Union[str, Path]
 LAG_STEP = 0.02  # s between the lags the coarse search tries
+MIN_FIT = 0.1    # R^2 below which no lag is trusted
 
 
 @dataclass(frozen=True)
@@ -50,23 +51,21 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     overlap in time and a mask that is empty everywhere."""
     log_path, out = Path(log_path), Path(out)
     check_outputs([out], force=force, inputs=[log_path])
-    with LogFile(log_path) as log, ThreadPoolExecutor(1) as hashing:
-        check_camera(log, settings)
-        digest = hashing.submit(fingerprint, log_path)  # hashlib releases the GIL: it reads while the log is read
-        camera = CameraReader(log, settings)
-        camera.first_look(camera.samples())
-        readers = [SeriesReader(log, settings.sensors, "--sensors")]
-        if settings.drive:
-            readers.append(SeriesReader(log, settings.drive, "--drive"))
-        masks = camera.masks(progress, {topic: _fan_out([r for r in readers if r.topic == topic])
-                                        for topic in {r.topic for r in readers}})
-        sensors, drive = readers[0].series(), readers[1].series() if len(readers) > 1 else None
+    with made_folders([out]), claimed([out]):  # held from the start: a second import to `out` is refused at once
+        return _import(log_path, out, settings, progress)
+
+
+def _import(log_path: Path, out: Path, settings: ImportSettings, progress: Callable[[int], None]) -> ImportReport:
+    camera, masks, sensors, drive, digest = _read(log_path, settings, progress)
     coverage = float(masks.masks.mean())
     if coverage == 0:
         raise RecordingError(f"the mask is empty in every frame with --mask {settings.mask}"
                              + _suggestion(camera.threshold) + "; preview it with --preview out.png")
     lag, fit = (settings.lag, None) if settings.lag is not None else _lag(masks, sensors, settings)
     dt = settings.frame_dt or camera_period(masks.stamps)
+    if not np.isfinite(dt):
+        raise RecordingError(f"{settings.camera}: its frames have fewer than two distinct stamps, so it has no "
+                             "rate of its own; give --frame-dt in seconds")
     grid, overlap = _grid(masks, sensors, drive, lag, dt)
     stretch = interpolate(grid.times + lag, sensors.stamps, sensors.values)
     command = interpolate(grid.times + lag, drive.stamps, drive.values)[:, 0] if drive is not None else None
@@ -75,14 +74,35 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
                           rate(sensors.stamps), rate(drive.stamps) if drive is not None else None, dt, lag,
                           settings.lag is None, fit, grid.gaps.tolist(), dropped_frames(masks.stamps), overlap,
                           camera.threshold, coverage)
-    source = {"log": str(log_path), "sha256": digest.result(), "settings": settings.to_dict(),
+    source = {"log": str(log_path), "sha256": digest, "settings": settings.to_dict(),
               "found": report.to_dict() | {"t0": float(grid.times[0]), "camera_size": list(masks.size),
                                            "header_stamps": {"camera": masks.header_stamps,
                                                              "sensors": sensors.header_stamps}}}
-    with made_folders([out]), claimed([out]):
-        write_imported(out, grid.times - grid.times[0], dt, frames, grid.camera >= 0, stretch, command, sensors.names,
-                       settings, source)
+    write_imported(out, grid.times - grid.times[0], dt, frames, grid.camera >= 0, stretch, command, sensors.names,
+                   settings, source)
     return report
+
+
+def _read(log_path: Path, settings: ImportSettings, progress: Callable[[int], None]
+          ) -> tuple[CameraReader, Masks, Series, Optional[Series], str]:
+    """The log read: its masks, sensors and drive, and its fingerprint (hashed by the pool beside the reading)."""
+    with LogFile(log_path) as log:
+        check_camera(log, settings)
+        camera = CameraReader(log, settings)
+        camera.first_look(camera.samples())
+        readers = [SeriesReader(log, settings.sensors, "--sensors")]
+        if settings.drive:
+            readers.append(SeriesReader(log, settings.drive, "--drive"))
+        with segmenting_pool(camera, log.decoder(settings.camera)) as pool:
+            digest = pool.submit(fingerprint, log_path)
+            masks = camera.masks(pool, progress, {topic: _fan_out([r for r in readers if r.topic == topic])
+                                                  for topic in {r.topic for r in readers}})
+            digest = digest.result()
+        sensors, drive = readers[0].series(), readers[1].series() if len(readers) > 1 else None
+    if drive is not None and drive.values.shape[1] != 1:
+        raise RecordingError(f"--drive {settings.drive}: holds {drive.values.shape[1]} values a message; the drive is "
+                             "one command: name one element, e.g. position[0]")
+    return camera, masks, sensors, drive, digest
 
 
 def _fan_out(readers: list[SeriesReader]) -> Callable[[int, object], None]:
@@ -100,6 +120,11 @@ def check_camera(log: LogFile, settings: ImportSettings) -> None:
     if not topic.image:
         raise RecordingError(f"--camera: {settings.camera} carries {topic.schema or 'schemaless'} messages, not "
                              f"images; {log.describe()}")
+    if topic.encoding not in ("cdr", "protobuf"):
+        raise RecordingError(f"--camera: {settings.camera} holds {topic.encoding}-encoded images; softarm reads "
+                             "images as ROS 2 (cdr) or protobuf messages")
+    if topic.messages < 2:
+        raise RecordingError(f"--camera: {settings.camera} holds {topic.messages} image(s); a recording needs two or more")
 
 
 def _suggestion(threshold: Optional[float]) -> str:
@@ -111,9 +136,13 @@ def _suggestion(threshold: Optional[float]) -> str:
 def _lag(masks: Masks, sensors: Series, settings: ImportSettings) -> tuple[float, float]:
     try:
         found = estimate_lag(masks.stamps, masks.masks, sensors.stamps, sensors.values, settings.max_lag, LAG_STEP)
-    except ValueError:
-        raise RecordingError(f"too few camera frames lie within the sensors' time, +-{settings.max_lag:g} s, to find "
-                             "the lag: give it with --lag, or a smaller --max-lag") from None
+    except ValueError as e:
+        raise RecordingError(f"the lag between camera and sensors cannot be found: {e}; give it with --lag (or a "
+                             "smaller --max-lag)") from None
+    if found.fit < MIN_FIT:
+        raise RecordingError(f"the lag between camera and sensors cannot be found: at the best lag, "
+                             f"{found.lag * 1e3:+.0f} ms, the masks explain {found.fit:.0%} of the sensors' variance; "
+                             "check the topics and the mask (--preview), or give --lag")
     if found.rival is not None:
         warnings.warn(f"the motion is nearly periodic: a lag of {found.rival * 1e3:+.0f} ms fits almost as well as the "
                       f"{found.lag * 1e3:+.0f} ms found; if the clocks may be that far apart, check it and give --lag",

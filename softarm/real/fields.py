@@ -107,8 +107,8 @@ def header_stamp(message: Any) -> Optional[float]:
     if stamp is None:
         return None
     parts = field_names(stamp)
-    if "sec" in parts:
-        return _get(stamp, "sec") + _get(stamp, "nanosec") * 1e-9
+    if "sec" in parts:  # ROS 2's {sec, nanosec}; Foxglove's JSON time {sec, nsec}
+        return _get(stamp, "sec") + _get(stamp, "nanosec" if "nanosec" in parts else "nsec") * 1e-9
     if "seconds" in parts:
         return _get(stamp, "seconds") + _get(stamp, "nanos") * 1e-9
     return None

@@ -49,7 +49,7 @@ class LogFile:
         try:
             self._reader: McapReader = make_reader(self._file)
             summary = self._reader.get_summary()
-        except (McapError, ValueError, EOFError) as e:
+        except (McapError, ValueError, EOFError, OSError, struct.error) as e:
             self.close()
             raise RecordingError(f"{self.path} is not a readable MCAP log ({type(e).__name__}: {e}); a log cut short "
                                  "has no summary: run `mcap recover` on it first") from None
@@ -88,16 +88,23 @@ class LogFile:
                 elif isinstance(record, Channel) and record.topic in topics:
                     channels[record.id] = (record.topic, self._decoder(record.message_encoding,
                                                                        schemas.get(record.schema_id), record.topic))
-        except (struct.error, McapError, ValueError) as e:
+        except Exception as e:  # struct, MCAP, zstd, lz4 or CRC errors: the bytes stop making sense here
             raise RecordingError(f"{self.path} is damaged ({type(e).__name__}: {e})") from None
 
     def _decoder(self, encoding: str, schema: Any, topic: str) -> Callable[[bytes], Any]:
-        if encoding == "json":
-            return orjson.loads
-        for factory in self._factories:
-            decoder = factory.decoder_for(encoding, schema)
-            if decoder is not None:
-                return decoder
+        """The decoder of a channel's messages; a message it cannot read becomes one line naming the topic."""
+        found = orjson.loads if encoding == "json" else next(
+            (d for d in (f.decoder_for(encoding, schema) for f in self._factories) if d is not None), None)
+        if found is not None:
+            path = self.path
+
+            def decode(data: bytes) -> Any:
+                try:
+                    return found(data)
+                except Exception as e:  # CDR, protobuf or JSON that does not match its schema: a damaged message
+                    raise RecordingError(f"{path}: a message on {topic} does not decode ({type(e).__name__}: {e})"
+                                         ) from None
+            return decode
         raise RecordingError(f"{self.path}: no decoder reads {topic} (message encoding {encoding!r}, schema "
                              f"{getattr(schema, 'name', None)!r}); softarm reads ROS 2 (cdr), protobuf and json messages")
 
@@ -108,10 +115,15 @@ class LogFile:
         decode, out = self.decoder(topic), []
         if stats is None or count < 1:
             return out
-        for start in np.linspace(stats.message_start_time, stats.message_end_time, count).astype(np.int64):
-            found = next(self._reader.iter_messages(topics=[topic], starting_at=int(start)), None)
-            if found is not None and (not out or found[2].log_time != out[-1][0]):
-                out.append((found[2].log_time, decode(found[2].data)))
+        try:
+            for start in np.linspace(stats.message_start_time, stats.message_end_time, count).astype(np.int64):
+                found = next(self._reader.iter_messages(topics=[topic], starting_at=int(start)), None)
+                if found is not None and (not out or found[2].log_time != out[-1][0]):
+                    out.append((found[2].log_time, decode(found[2].data)))
+        except RecordingError:
+            raise
+        except Exception as e:  # a damaged chunk or index
+            raise RecordingError(f"{self.path} is damaged ({type(e).__name__}: {e})") from None
         return [message for _, message in out]
 
     def decoder(self, topic: str) -> Callable[[bytes], Any]:

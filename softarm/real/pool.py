@@ -8,6 +8,7 @@ rule, threshold and background) and the camera topic's decoder instead of being 
 import multiprocessing
 import os
 import signal
+import sys
 from concurrent.futures import Executor, ProcessPoolExecutor, ThreadPoolExecutor
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Sequence
@@ -20,8 +21,8 @@ def segmenting_pool(camera: Any, decoder: Callable[[bytes], Any]) -> Iterator[Ex
     """A pool whose workers know `camera` and `decoder`: processes where the platform forks, threads elsewhere."""
     global _WORKER
     _WORKER = (camera, decoder)
-    cores = max(1, len(os.sched_getaffinity(0)))
-    if "fork" in multiprocessing.get_all_start_methods() and cores > 1:
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    if sys.platform == "linux" and cores > 1:
         pool: Executor = ProcessPoolExecutor(cores, mp_context=multiprocessing.get_context("fork"),
                                              initializer=_quiet_worker)
     else:

@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 from PIL import Image, ImageChops, ImageDraw, ImageFilter
 
+from softarm.errors import ConfigError
 from softarm.real.robot_log import RobotLogSettings, ros_header
 from softarm.record.recording import Recording
 
@@ -22,7 +23,7 @@ class ArmCamera:
         small_h, small_w = rec.frames.shape[1:]
         self.s = min(settings.width // small_w, settings.height // small_h)
         if self.s < 1:
-            raise ValueError(f"a {settings.width}x{settings.height} image cannot hold the {small_w}x{small_h} view")
+            raise ConfigError(f"a {settings.width}x{settings.height} image cannot hold the {small_w}x{small_h} view")
         self.roi = ((settings.width - self.s * small_w) // 2, (settings.height - self.s * small_h) // 2,
                     self.s * small_w, self.s * small_h)
         self.settings, self.rng, self.size = settings, rng, (settings.width, settings.height)

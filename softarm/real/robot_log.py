@@ -7,7 +7,6 @@ sensor/drive controller whose clock runs `sensor_offset` ahead, with jittered st
 """
 
 import heapq
-import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterator
@@ -16,7 +15,10 @@ import numpy as np
 from mcap.writer import CompressionType
 from mcap_ros2.writer import Writer
 
+from softarm.errors import ConfigError
+from softarm.files import atomic_path, claimed, made_folders
 from softarm.record.reader import Recording, read_recording
+from softarm.record.recording import needs_nodes_error
 
 if TYPE_CHECKING:
     from softarm.real.robot_camera import ArmCamera
@@ -135,8 +137,10 @@ def make_robot_log(recording: str | Path, out: str | Path,
                    settings: RobotLogSettings = RobotLogSettings()) -> RobotLog:
     """Write `out`, a ROS 2 MCAP bag of `recording` as a lab's robot would log it, for testing log importers."""
     if settings.image_format not in ("jpeg", "png", "rgb8"):
-        raise ValueError(f"image_format must be jpeg, png or rgb8, not {settings.image_format!r}")
+        raise ConfigError(f"--image-format {settings.image_format!r}: give jpeg, png or rgb8")
     rec = read_recording(recording)
+    if rec.positions is None or rec.displacement is None:
+        raise needs_nodes_error(rec, "a robot-style log (its camera draws the arm from them)")
     rng = np.random.default_rng(settings.seed)
     from softarm.real.robot_camera import ArmCamera  # PIL: only when a log is made
 
@@ -145,20 +149,14 @@ def make_robot_log(recording: str | Path, out: str | Path,
     types = {_camera_topic(settings)[0]: _camera_topic(settings)[1],
              "/arm/stretch": "softarm_msgs/msg/Stretch" if settings.sensor_header else "std_msgs/msg/Float32MultiArray",
              "/arm/command": "sensor_msgs/msg/JointState"}
-    part = Path(f"{out}.part")
-    try:
-        with open(part, "wb") as f:
-            writer = Writer(f, compression=CompressionType.ZSTD)
-            schemas = {topic: writer.register_msgdef(name, _definition(name)) for topic, name in types.items()}
-            sequence = dict.fromkeys(types, 0)
-            for log_ns, topic, message in heapq.merge(images, stretches, drives, key=lambda m: m[0]):
-                sequence[topic] += 1
-                writer.write_message(topic, schemas[topic], message, log_ns, log_ns, sequence[topic])
-            writer.finish()
-        os.replace(part, out)
-    except BaseException:
-        part.unlink(missing_ok=True)
-        raise
+    with made_folders([out]), claimed([out]), atomic_path(out) as part, open(part, "wb") as f:
+        writer = Writer(f, compression=CompressionType.ZSTD)
+        schemas = {topic: writer.register_msgdef(name, _definition(name)) for topic, name in types.items()}
+        sequence = dict.fromkeys(types, 0)
+        for log_ns, topic, message in heapq.merge(images, stretches, drives, key=lambda m: m[0]):
+            sequence[topic] += 1
+            writer.write_message(topic, schemas[topic], message, log_ns, log_ns, sequence[topic])
+        writer.finish()
     return RobotLog(Path(out), _camera_topic(settings)[0], "/arm/stretch", "/arm/command", camera.roi,
                     settings.sensor_offset, dropped, len(camera_times), camera_times)
 

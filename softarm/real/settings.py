@@ -1,6 +1,7 @@
 """What `softarm import` is asked to do: the topics, the segmentation, the grid and the lag. Written whole into
 the imported recording's metadata, so the conversion can be repeated and judged."""
 
+import math
 from dataclasses import asdict, dataclass, field
 from typing import Any, Optional
 
@@ -25,8 +26,10 @@ class ImportSettings:
     def __post_init__(self) -> None:
         if self.roi is not None and (len(self.roi) != 4 or min(self.roi[2:]) <= 0 or min(self.roi[:2]) < 0):
             raise ConfigError(f"--roi {self.roi}: give X,Y,WIDTH,HEIGHT in pixels, width and height positive")
-        if self.frame_dt is not None and not 0 < self.frame_dt < 10:
+        if self.frame_dt is not None and not (math.isfinite(self.frame_dt) and 0 < self.frame_dt < 10):
             raise ConfigError(f"--frame-dt {self.frame_dt}: give a period in seconds, above 0")
+        if self.lag is not None and not (math.isfinite(self.lag) and abs(self.lag) <= 3600):
+            raise ConfigError(f"--lag {self.lag}: give the clocks' offset in seconds, a finite number")
         if not 0 < self.max_lag <= 60:
             raise ConfigError(f"--max-lag {self.max_lag}: give a search range in seconds, above 0 and at most 60")
         if not (0 < self.width <= 4096 and 0 < self.height <= 4096):

@@ -46,7 +46,10 @@ class SeriesReader:
             self.values.append(field_values(message, self.path, self.where))
             self._read = attribute_reader(self.path)
         else:
-            self.values.append(self._read(message))
+            try:
+                self.values.append(self._read(message))
+            except (KeyError, IndexError, AttributeError, TypeError):  # a later message that does not fit the path
+                self.values.append(field_values(message, self.path, self.where))
 
     def series(self) -> Series:
         """Every message's values, sorted by stamp, duplicate stamps dropped; one line for what cannot be used."""

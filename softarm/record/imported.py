@@ -1,8 +1,8 @@
 """Reading a recording imported from a robot's log (docs/recording.md, Imported recordings).
 
-Its frame grid is the stretch channel's: every frame has a stretch reading (and a drive, where the log had
-one), while the camera may have gaps (dropped frames), which `Recording.seen` marks: training skips them and
-scoring ignores them. It has no node positions and no known camera map.
+Every frame of its grid has a stretch reading (and a drive, where the log had one); the camera has gaps (frames
+between its images when the grid is finer than the camera, and the frames it dropped), which `Recording.seen`
+marks: training skips them and scoring ignores them. It has no node positions and no known camera map.
 """
 
 import warnings
@@ -20,7 +20,8 @@ from softarm.record.recording import Recording, TruncatedRecordingWarning
 def imported_recording(path: Path, model: dict[str, Any], run: Optional[dict[str, str]],
                        messages: dict[str, dict[int, bytes]], truncated: bool) -> Recording:
     """The arrays of an imported recording from its messages by topic (log time ns -> bytes)."""
-    stamps = sorted(messages[STRETCH])
+    drive = messages.get(EXCITATION) or {}
+    stamps = sorted(set(messages[STRETCH]) & set(drive) if drive else messages[STRETCH])  # a cut file: frames whole
     if not stamps:
         raise RecordingError(f"{path} holds no complete frame")
     height, width = model["camera"]["height"], model["camera"]["width"]
@@ -34,11 +35,8 @@ def imported_recording(path: Path, model: dict[str, Any], run: Optional[dict[str
     if not seen.any():
         raise RecordingError(f"{path} holds no camera frame")
     stretch = signal_values(messages[STRETCH], stamps, ("stretch",), (len(model["sensors"]),), STRETCH, path)
-    drive = messages.get(EXCITATION) or {}
     displacement = None
     if drive:
-        if len(drive) < len(stamps):
-            raise RecordingError(f"{path}: its {EXCITATION} channel misses frames; import the log again")
         displacement = signal_values(drive, stamps, ("displacement",), (), EXCITATION, path)
     if truncated:
         warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning, stacklevel=3)

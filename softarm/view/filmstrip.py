@@ -45,7 +45,7 @@ def save_png(image: Image.Image, path: Union[str, Path]) -> Path:
 
 def replay_filmstrip(result: Any, columns: int = 8) -> Image.Image:
     """Rows camera / imagined / difference at evenly spaced imagined frames of a replay (the README's picture)."""
-    frames = np.flatnonzero(result.predicted)
+    frames = np.flatnonzero(result.predicted & result.recording.seen)  # a camera's gap has no frame to show
     picks = frames[np.linspace(0, len(frames) - 1, columns).round().astype(int)]
     truth = result.recording.frames[picks]
     rows = [truth, result.imagined[picks], DIFFERENCE_COLOURS[difference_codes(truth, result.imagined[picks])] / 255.0]

@@ -51,16 +51,18 @@ def log_replay(result: Any, rrd: Optional[Path] = None, spawn: bool = False,
 
 def _log_images(rec: rr.RecordingStream, result: Any, imagined_bytes: Optional[np.ndarray]) -> None:
     times = [rr.TimeColumn("sim_time", duration=result.times)]
-    truth = result.recording.frames
-    send_images(rec, "camera/image", times, truth * np.uint8(255))
+    seen = result.recording.seen  # a camera's gaps: the viewer keeps showing its last frame
+    seen_times = [rr.TimeColumn("sim_time", duration=result.times[seen])]
+    truth = result.recording.frames[seen]
+    send_images(rec, "camera/image", seen_times, truth * np.uint8(255))
     send_images(rec, "imagined/image", times,
                 imagined_bytes if imagined_bytes is not None else probability_bytes(result.imagined))
     rec.log("difference", rr.AnnotationContext([(i, name, tuple(int(c) for c in colour)) for i, (name, colour)
                                                 in enumerate(zip(DIFFERENCE_CLASSES, DIFFERENCE_COLOURS))]),
             static=True)
-    codes = difference_codes(truth, result.imagined)  # one byte a pixel; the viewer colours the classes
+    codes = difference_codes(truth, result.imagined[seen])  # one byte a pixel; the viewer colours the classes
     fmt = rr.components.ImageFormat(width=codes.shape[2], height=codes.shape[1], channel_datatype="U8")
-    rec.send_columns("difference/image", indexes=times, columns=rr.SegmentationImage.columns(
+    rec.send_columns("difference/image", indexes=seen_times, columns=rr.SegmentationImage.columns(
         buffer=codes.reshape(len(codes), -1), format=[fmt] * len(codes)))
     send_images(rec, "fused/image", times, probability_bytes(result.fused))
     nodes = result.nodes_px

@@ -70,3 +70,20 @@ def test_an_imported_recording_opens_in_rerun(imported, tmp_path):
     assert subprocess.run([RERUN, "mcap", "convert", str(path), "-o", str(tmp_path / "i.rrd")],
                           capture_output=True).returncode == 0
     assert subprocess.run([RERUN, "rrd", "verify", str(tmp_path / "i.rrd")], capture_output=True).returncode == 0
+
+
+def test_a_background_frame_is_subtracted(recordings, robot_bag, tmp_path):
+    """With a photo of the empty scene, the arm is what differs from it: no colour rule needed."""
+    from softarm.real.convert import import_log
+    from softarm.real.robot_camera import ArmCamera
+    from softarm.real.robot_log import RobotLogSettings
+    from softarm.real.settings import ImportSettings
+
+    native = read_recording(recordings / "s0.mcap")
+    ArmCamera(native, RobotLogSettings(), np.random.default_rng(0)).background.save(tmp_path / "empty.png")
+    settings = ImportSettings(robot_bag.camera_topic, f"{robot_bag.stretch_topic}:data", roi=robot_bag.roi,
+                              background=str(tmp_path / "empty.png"), mask="diff>otsu", lag=robot_bag.offset)
+    import_log(robot_bag.path, tmp_path / "d.mcap", settings)
+    rec = read_recording(tmp_path / "d.mcap")
+    k = native_index(rec, native, 1_700_000_000.0)
+    assert iou_per_frame(rec.frames[rec.seen].astype(float), native.frames[k[rec.seen]]).mean() > 0.9

@@ -53,3 +53,23 @@ def test_camera_and_sensors_without_overlap_are_refused(robot_bag, tmp_path):
 def test_a_mask_empty_everywhere_suggests_a_threshold(robot_bag, tmp_path):
     assert_one_line_error(run_import(robot_bag.path, tmp_path, "--mask", "r>255"), "empty",
                           "threshold")
+
+
+def test_a_drive_of_several_values_is_refused(robot_bag, tmp_path):
+    assert_one_line_error(run_import(robot_bag.path, tmp_path, "--drive", "/arm/stretch:data"), "one command")
+
+
+def test_a_lag_that_is_not_a_number_is_refused(robot_bag, tmp_path):
+    assert_one_line_error(run_import(robot_bag.path, tmp_path, "--lag", "nan"), "--lag")
+
+
+def test_a_mask_that_never_changes_gives_no_lag(robot_bag, tmp_path):
+    assert_one_line_error(run_import(robot_bag.path, tmp_path, "--mask", "gray<256"),
+                          "lag", "--lag")
+
+
+def test_a_robot_log_needs_a_simulated_recording(imported, tmp_path):
+    _, path = imported
+    result = softarm("robot-log", str(path), "--out", "bag.mcap", cwd=tmp_path)
+    assert_one_line_error(result, "node positions")
+    assert not list(tmp_path.iterdir())

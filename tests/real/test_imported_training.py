@@ -7,6 +7,7 @@ import pytest
 from softarm.config import load_config
 from softarm.errors import ConfigError, RecordingError
 from softarm.imagine.replay import compute_replay
+from softarm.imagine.stream import StreamingImaginer
 from softarm.learn.run import train
 from softarm.real.convert import import_log
 from softarm.real.robot_log import RobotLogSettings, make_robot_log
@@ -24,6 +25,9 @@ def test_an_imported_recording_trains_replays_and_skips_its_gaps(imported, tmp_p
     replay = compute_replay(result.checkpoint, path)
     assert np.isnan(replay.iou[report.gaps]).all() and np.isfinite(replay.iou[replay.predicted & replay.recording.seen]).all()
     assert replay.nodes_px is None and 0 < replay.metrics["imagination"]["iou"] <= 1
+    streamer = StreamingImaginer.from_checkpoint(result.checkpoint)  # online, sample by sample, as the replay
+    streamed = [f for f in (streamer.step(stretch=sample) for sample in replay.recording.stretch[:60]) if f is not None]
+    assert streamed and all(np.allclose(f.probabilities, replay.imagined[f.frame], atol=1e-5) for f in streamed)
 
 
 def test_what_needs_node_positions_says_so(imported, tmp_path):

@@ -12,6 +12,7 @@ from mcap.stream_reader import StreamReader
 from mcap_ros2.decoder import DecoderFactory
 from PIL import Image
 
+from softarm.errors import ConfigError
 from softarm.real import robot_camera
 from softarm.real.robot_log import RobotLogSettings, make_robot_log
 from softarm.record.reader import read_recording
@@ -127,5 +128,5 @@ def test_a_failed_write_leaves_no_file(recordings, tmp_path, monkeypatch):
     with pytest.raises(RuntimeError, match="camera unplugged"):
         make_robot_log(recordings / "three_sensors.mcap", tmp_path / "bag.mcap")
     assert list(tmp_path.iterdir()) == []
-    with pytest.raises(ValueError, match="image_format"):
+    with pytest.raises(ConfigError, match="image-format"):
         make_robot_log(recordings / "three_sensors.mcap", tmp_path / "bag.mcap", RobotLogSettings(image_format="bmp"))
