@@ -8,7 +8,7 @@ import numpy as np
 from PIL import Image, ImageChops, ImageDraw, ImageFilter
 
 from softarm.errors import ConfigError
-from softarm.real.robot_log import RobotLogSettings, ros_header
+from softarm.real.robot_settings import RobotLogSettings, ros_header
 from softarm.record.recording import Recording
 
 _ARM_RGB = (215, 95, 35)

@@ -17,6 +17,7 @@ from mcap_ros2.writer import Writer
 
 from softarm.errors import ConfigError
 from softarm.files import atomic_path, claimed, made_folders
+from softarm.real.robot_settings import RobotLogSettings, ros_header
 from softarm.record.reader import Recording, read_recording
 from softarm.record.recording import needs_nodes_error
 
@@ -41,25 +42,6 @@ _DEFINITIONS: dict[str, tuple[str, tuple[tuple[str, str], ...]]] = {
 
 
 @dataclass(frozen=True)
-class RobotLogSettings:
-    """How the lab's camera and controller deviate from the ideal recording (all defaults: a typical lab rig)."""
-    width: int = 640
-    height: int = 480
-    camera_hz: float = 30.0
-    image_format: str = "jpeg"      # "jpeg" or "png" -> sensor_msgs/msg/CompressedImage; "rgb8" -> sensor_msgs/msg/Image
-    jpeg_quality: int = 85
-    sensor_offset: float = 0.047    # s: the sensor/drive clock runs this far ahead of the camera's
-    sensor_jitter: float = 0.002    # s: std of the stretch header stamps' jitter (clipped at 3 std)
-    dropped: int = 5                # camera frames dropped (never the first or last 10)
-    blur: float = 1.2               # px: Gaussian blur of the camera
-    light_noise: float = 0.04       # relative std of each frame's overall brightness (lighting flicker)
-    pixel_noise: float = 4.0        # std of per-pixel noise, in 0..255 units
-    sensor_header: bool = True      # False: stretch as std_msgs/msg/Float32MultiArray (no header)
-    start: float = 1_700_000_000.0  # s: ROS time of the recording's t = 0
-    seed: int = 0
-
-
-@dataclass(frozen=True)
 class RobotLog:
     """What was written, and the ground truth an importer should recover (roi, offset, dropped frames)."""
     path: Path
@@ -75,11 +57,6 @@ class RobotLog:
 
 def _ns(seconds: Any) -> Any:
     return np.rint(np.asarray(seconds, np.float64) * 1e9).astype(np.int64)
-
-
-def ros_header(stamp_ns: int, frame_id: str) -> dict[str, Any]:
-    return {"stamp": {"sec": int(stamp_ns // 1_000_000_000), "nanosec": int(stamp_ns % 1_000_000_000)},
-            "frame_id": frame_id}
 
 
 def _camera_plan(frames: int, frame_dt: float, settings: RobotLogSettings,
@@ -133,9 +110,9 @@ def _camera_topic(settings: RobotLogSettings) -> tuple[str, str]:
     return "/camera/image_raw/compressed", "sensor_msgs/msg/CompressedImage"
 
 
-def make_robot_log(recording: str | Path, out: str | Path,
-                   settings: RobotLogSettings = RobotLogSettings()) -> RobotLog:
+def make_robot_log(recording: str | Path, out: str | Path, settings: RobotLogSettings | None = None) -> RobotLog:
     """Write `out`, a ROS 2 MCAP bag of `recording` as a lab's robot would log it, for testing log importers."""
+    settings = settings or RobotLogSettings()
     if settings.image_format not in ("jpeg", "png", "rgb8"):
         raise ConfigError(f"--image-format {settings.image_format!r}: give jpeg, png or rgb8")
     rec = read_recording(recording)
