@@ -14,7 +14,7 @@ import numpy as np
 
 from softarm.errors import ConfigError, RecordingError
 from softarm.real.fields import header_stamp
-from softarm.real.images import decode_image
+from softarm.real.images import crop_box, decode_image
 from softarm.real.log import LogFile
 from softarm.real.pool import segment_task
 from softarm.real.segment import MaskRule, downsample, otsu, parse_mask
@@ -45,24 +45,14 @@ class CameraReader:
 
     def decode(self, message: object) -> tuple[object, np.ndarray, tuple[int, int]]:
         """(message, ROI pixels, camera size) of one decoded image message."""
-        rgb, size = decode_image(message, self.where, self._least_scale)
-        return message, self._roi(rgb, size), size
+        pixels, size = decode_image(message, self.where, self._least_scale, self.settings.roi)
+        return message, pixels, size
 
     def _least_scale(self, size: tuple[int, int]) -> float:
         """The smallest decoding scale that keeps SUPERSAMPLE image pixels per camera pixel across the ROI."""
         s = self.settings
         w, h = (s.roi[2], s.roi[3]) if s.roi is not None else size
         return SUPERSAMPLE * max(s.width / max(w, 1), s.height / max(h, 1))
-
-    def _roi(self, rgb: np.ndarray, size: tuple[int, int]) -> np.ndarray:
-        roi = self.settings.roi
-        if roi is None:
-            return rgb
-        x, y, w, h = roi
-        if x + w > size[0] or y + h > size[1]:
-            raise ConfigError(f"--roi {x},{y},{w},{h} reaches outside the camera's {size[0]}x{size[1]} image")
-        fx, fy = rgb.shape[1] / size[0], rgb.shape[0] / size[1]  # a JPEG may have been decoded at a smaller scale
-        return rgb[round(y * fy):round((y + h) * fy), round(x * fx):round((x + w) * fx)]
 
     def first_look(self, messages: Sequence[object]) -> None:
         """The background (median of frames across the log, or an image file) and Otsu's threshold, from a few
@@ -142,7 +132,7 @@ class CameraReader:
         out = []
         for message in self.log.spread(self.settings.camera, count):
             rgb, size = decode_image(message, self.where, self._least_scale)
-            pixels = self._roi(rgb, size)
+            pixels = rgb[crop_box(self.settings.roi, size, (rgb.shape[1], rgb.shape[0]))]
             framed = Image.fromarray(rgb)
             if self.settings.roi is not None:
                 x, y, w, h = self.settings.roi

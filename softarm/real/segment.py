@@ -95,19 +95,20 @@ def parse_mask(text: str) -> MaskRule:
 
 
 def channel_values(rgb: np.ndarray, name: str) -> np.ndarray:
-    """(H, W) float32 of one channel, 0..255 (hue in degrees)."""
+    """(H, W) one channel, 0..255 (hue in degrees): r, g, b, s and v as uint8, gray and hue as float32."""
     from PIL import Image  # loaded when an image is met: importing softarm stays light
 
     if name in "rgb":
-        return rgb[..., "rgb".index(name)].astype(np.float32)
+        return rgb[..., "rgb".index(name)]
     if name == "gray":
         return np.asarray(Image.fromarray(rgb).convert("L"), np.float32)
-    if name in "sv":  # as PIL's HSV: V = max, S = 255 (max - min) / max, without a conversion of the whole image
-        r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]  # channel by channel: a reduction over an axis of 3 is slow
-        high = np.maximum(np.maximum(r, g), b).astype(np.float32)
+    if name in "sv":  # as PIL's HSV: V = max, S = 255 (max - min) / max, in integers, channel by channel
+        r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+        high = np.maximum(np.maximum(r, g), b)
         if name == "v":
             return high
-        return (high - np.minimum(np.minimum(r, g), b)) * 255.0 / np.maximum(high, 1.0)
+        spread = (high - np.minimum(np.minimum(r, g), b)).astype(np.uint16) * 255
+        return (spread // np.maximum(high, 1)).astype(np.uint8)
     hsv = np.asarray(Image.fromarray(rgb).convert("HSV"), np.float32)
     index = "hsv".index(name)
     return hsv[..., index] * (360.0 / 256.0 if index == 0 else 1.0)
@@ -125,8 +126,9 @@ def otsu(values: np.ndarray) -> float:
 
 
 def downsample(mask: np.ndarray, width: int, height: int) -> np.ndarray:
-    """(height, width) uint8 0/1: the share of arm pixels over each camera pixel (area average), at least half."""
+    """(height, width) uint8 0/1: the share of arm pixels over each camera pixel (area average, as a grey level),
+    at least half (128 of 255)."""
     from PIL import Image  # loaded when an image is met: importing softarm stays light
 
-    covered = Image.fromarray(mask.astype(np.float32)).resize((width, height), Image.Resampling.BOX)
-    return (np.asarray(covered) >= 0.5).astype(np.uint8)
+    covered = Image.fromarray(mask.astype(np.uint8) * np.uint8(255)).resize((width, height), Image.Resampling.BOX)
+    return (np.asarray(covered) >= 128).astype(np.uint8)
