@@ -93,8 +93,9 @@ class Dataset:
 
     def seen_frames(self, segment: str) -> np.ndarray:
         """(M,) bool over every frame of a segment, all recordings in order: the camera has it."""
-        return np.concatenate([np.ones(b - a, bool) if s.seen is None else s.seen[a:b]
-                               for s, (a, b) in ((s, s.segment(segment)) for s in self.sequences)])
+        parts = [(s.seen, slice(*s.segment(segment))) for s in self.sequences]
+        return np.concatenate([np.ones(part.stop - part.start, bool) if seen is None else seen[part]
+                               for seen, part in parts])
 
     def count(self, segment: str) -> int:
         """Camera frames of a segment, all recordings (a camera's gaps left out, as `frames` leaves them)."""
@@ -125,7 +126,7 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
     if not paths:
         raise RecordingError("give at least one recording")
     train, channels = config.train, tuple(channels)
-    sequences, first, scales = [], None, set()
+    sequences, first, imported = [], None, False
     held_out = validation_indices(len(paths), train.validation_recordings)
     for path in map(Path, paths):
         if stop():
@@ -148,8 +149,9 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
         check_fits(seq.name, shape, first[1], channels, first[0])
         check_segments(seq, train)
         sequences.append(seq)
-        scales.add(config.camera.pixels_per_metre if not rec.imported else float("nan"))
-    return Dataset(sequences, channels, list(first[1][1]), cache, scales.pop() if len(scales) == 1 else float("nan"))
+        imported |= rec.imported
+    return Dataset(sequences, channels, list(first[1][1]), cache,
+                   float("nan") if imported else config.camera.pixels_per_metre)
 
 
 def validation_indices(count: int, share: float) -> set[int]:
