@@ -18,6 +18,7 @@ def replay(
     rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Write the Rerun timeline (camera | imagined | difference | fused, signals, IoU).")] = None,
     mcap: Annotated[Optional[Path], typer.Option("--mcap", help="Write the imagination as MCAP (/imagination/image, /imagination/iou, /imagination/confidence).")] = None,
     png: Annotated[Optional[Path], typer.Option("--png", help="Write a filmstrip: camera / imagined / difference at evenly spaced times.")] = None,
+    png_span: Annotated[Optional[str], typer.Option("--png-span", metavar="START:END", help="The filmstrip's frames from this stretch of time (s) [default: the whole recording].")] = None,
     blind: Annotated[Optional[list[str]], typer.Option("--blind", metavar="START:END", help="Camera blackout START:END in seconds (repeatable); metrics split blind / seeing.")] = None,
     sensor_noise: SensorNoise = None,
     spawn: Annotated[bool, typer.Option("--spawn", help="Show the timeline in a Rerun viewer.")] = False,
@@ -33,7 +34,7 @@ def replay(
 
     noise = run_or_exit(lambda: parse_imperfections(sensor_noise)) if sensor_noise else None
     result = run_or_exit(lambda: run_replay(checkpoint, recording, blind or [], rrd=rrd, mcap=mcap, png=png,
-                                            spawn=spawn, force=force, sensor_noise=noise))
+                                            spawn=spawn, force=force, sensor_noise=noise, png_span=png_span))
     if not quiet:
         out.print(replay_table(result.metrics))
         written = ", ".join(str(p) for p in (rrd, mcap, png) if p is not None)
@@ -46,6 +47,7 @@ def evaluate(
     suite_folder: Annotated[Path, typer.Argument(metavar="SUITE_DIR", help="Folder written by `softarm suite`.")],
     json_path: Annotated[Optional[Path], typer.Option("--json", help="Write every family's scores as JSON.")] = None,
     png: Annotated[Optional[Path], typer.Option("--png", help="Write the per-family IoU bars (model vs baselines).")] = None,
+    trust_png: Annotated[Optional[Path], typer.Option("--trust-png", help="Write every confidence's sparsification curve beside the oracle's.")] = None,
     sensor_noise: SensorNoise = None,
     force: Force = False,
     quiet: Quiet = False,
@@ -61,6 +63,7 @@ def evaluate(
     noise = run_or_exit(lambda: parse_imperfections(sensor_noise)) if sensor_noise else None
     with LazyProgress(err, "evaluating", 1, "recordings", quiet=quiet, log=out) as bar:
         evaluation = run_or_exit(lambda: run_evaluation(checkpoint, suite_folder, json_path=json_path, png=png,
-                                                        sensor_noise=noise, force=force, progress=bar.update))
+                                                        sensor_noise=noise, force=force, progress=bar.update,
+                                                        trust_png=trust_png))
     if not quiet:
         out.print(suite_table(evaluation))

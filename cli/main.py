@@ -11,7 +11,7 @@ from softarm_cli.imagination import evaluate, replay
 from softarm_cli.real import import_log, robot_log
 from softarm_cli.recording import corpus, sim, suite
 from softarm_cli.study import study
-from softarm_cli.training import train
+from softarm_cli.training import adapt, train
 
 from softarm import __version__
 from softarm.config import DEFAULT_CONFIG_TEXT
@@ -44,7 +44,7 @@ def config() -> None:
     out.print(DEFAULT_CONFIG_TEXT, markup=False, end="")
 
 
-for command in (sim, train, replay, corpus, suite, evaluate, demo, study):
+for command in (sim, train, adapt, replay, corpus, suite, evaluate, demo, study):
     app.command()(command)
 app.command("import")(import_log)
 app.command("robot-log")(robot_log)

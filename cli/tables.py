@@ -1,6 +1,6 @@
 """Rich tables of the metrics dictionaries that training and replay return."""
 
-from typing import Any
+from typing import Any, Optional
 
 from rich.table import Table
 
@@ -47,9 +47,10 @@ def replay_table(metrics: dict[str, Any]) -> Table:
     for key, label in REPLAY_ROWS.items():
         if metrics.get(key) is not None:
             scores_row(table, label, metrics[key])
-    trust = metrics["confidence"]
+    trust, felt = metrics["confidence"], metrics.get("surprise") or {}
     table.caption = (f"confidence: mean {trust['mean']:.2f}, Spearman correlation with the frames' IoU "
-                     f"{trust['spearman_with_iou']:.2f}")
+                     f"{trust['spearman_with_iou']:.2f}" + (f"; surprise: mean {felt['mean']:.2f}, {felt['alarms']} alarms"
+                                                             if felt.get("mean") is not None else ""))
     return table
 
 
@@ -73,8 +74,27 @@ def suite_table(evaluation: dict[str, Any]) -> Table:
     for label, mean in {**means, "mean of families": evaluation["mean"]}.items():
         table.add_row(label, "", f"{mean['iou']:.3f}", f"{mean['bce']:.4f}", f"{mean['tip_error_mm']:.1f}",
                       f"{mean['tip_error_median_mm']:.1f}", f"{mean['skill']:.2f}", *[""] * (len(columns) - 7))
-    trust = evaluation["confidence"]
-    table.caption = (f"confidence over {trust['frames']} frames: Spearman correlation with IoU {trust['spearman']:.2f}; "
-                     f"IoU of the {trust['least_trusted_share']:.0%} least trusted {trust['least_trusted_iou']:.3f}, "
-                     f"of the rest {trust['rest_iou']:.3f}")
+    table.caption = "\n".join([*(trust_line(evaluation["confidence"], name) for name in evaluation["confidence"]["methods"]),
+                                *surprise_lines(evaluation.get("surprise"))])
     return table
+
+
+def trust_line(report: dict[str, Any], name: str) -> str:
+    """One confidence's scores over the suite, each with its calibrated reference in brackets."""
+    m, ref = report["methods"][name], report["methods"][name]["reference"]
+    chosen = " (the checkpoint's)" if name == report["default"] else ""
+    return (f"confidence by {name}{chosen} over {m['frames']} frames: Spearman with IoU {m['spearman']:.2f} "
+            f"[{ref['spearman']:.2f}], AUROC for IoU < {report['flagged_below']} {m['auroc']:.2f} [{ref['auroc']:.2f}], "
+            f"AUSE {m['ause']:.4f} [{ref['ause']:.4f}]; IoU of the {report['least_trusted_share']:.0%} least trusted "
+            f"{m['least_trusted_iou']:.3f}, of the rest {m['rest_iou']:.3f}")
+
+
+def surprise_lines(report: Optional[dict[str, Any]]) -> list[str]:
+    """Per disturbance family: the surprise's AUROC and its alarm's latency at the suite's threshold."""
+    if report is None:
+        return ["surprise: the checkpoint has no forward model (trained by an older softarm, or reads no stretch)"]
+    rate = report["false_alarms_per_minute"]
+    return [f"surprise (alarm at {report['thresholds']['suite']:.1f}, {rate['suite']:.2f} false alarms a minute; the "
+            f"checkpoint's {report['thresholds']['own']:.1f}, {rate['own']:.2f} a minute): " + "; ".join(
+                f"{name} AUROC {row['auroc']:.2f}, latency {row['latency_ms_suite']:.0f} ms "
+                f"({row['detected_suite']:.0%} detected)" for name, row in report["families"].items())]

@@ -5,7 +5,7 @@ from typing import Annotated, Optional
 
 import typer
 from softarm_cli.console import complain, err, out, run_or_exit, say
-from softarm_cli.options import ConfigFile, D, Force, Quiet
+from softarm_cli.options import Checkpoint, ConfigFile, D, Force, Quiet
 from softarm_cli.progress import LazyProgress, training_progress
 from softarm_cli.tables import metrics_table
 
@@ -58,3 +58,28 @@ def train(
     if not quiet:
         out.print(metrics_table(result.metrics))
         say(f"checkpoint {result.checkpoint}, metrics {result.metrics_path}, {result.wall_seconds:.0f} s")
+
+
+def adapt(
+    checkpoint: Checkpoint,
+    recording: Annotated[Path, typer.Argument(metavar="RECORDING", help="Recording (.mcap) after a lasting change of the body (a load, damage).")],
+    seconds: Annotated[float, typer.Option("--seconds", "-s", help="Seconds of camera to adapt on.")],
+    out_path: Annotated[Path, typer.Option("--out", "-o", help="The adapted checkpoint.")],
+    start: Annotated[Optional[float], typer.Option("--from", metavar="SECONDS", help="When the camera turns on [default: the recording's first lasting disturbance, else the surprise's first alarm].")] = None,
+    force: Force = False,
+    quiet: Quiet = False,
+) -> None:
+    """Learn a changed body from a few seconds of camera: refit the latent model's head (and the surprise's
+    forward model) on them, then imagine the rest of the recording with the camera off, before and after.
+
+    \b
+    Example: softarm adapt recordings/general.pt recordings/payload.mcap --seconds 5 --out recordings/adapted.pt
+    """
+    from softarm.learn.adapt_run import adapt as run_adapt
+
+    result = run_or_exit(lambda: run_adapt(checkpoint, recording, seconds, out_path, start=start, force=force))
+    m = result.metrics
+    if not quiet:
+        say(f"adapted on {m['camera_frames']} frames from {m['from_s']:.2f} s in {m['adapt_seconds']:.2f} s; the rest "
+            f"({m['rest_frames']} frames, camera off): IoU {m['rest_iou']['before']:.3f} before, "
+            f"{m['rest_iou']['after']:.3f} after; checkpoint {result.checkpoint}")

@@ -38,6 +38,7 @@ _API = {
     "simulate": "softarm.sim.run",
     "read_recording": "softarm.record.reader",
     "train": "softarm.learn.run",
+    "adapt": "softarm.learn.adapt_run",
     "replay": "softarm.imagine.run",
     "write_corpus": "softarm.corpus.build",
     "write_suite": "softarm.suite.build",

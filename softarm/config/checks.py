@@ -5,6 +5,7 @@ from typing import Any
 
 from softarm.config.schema import Config, ExcitationConfig, SensingConfig, TrainConfig
 from softarm.errors import ConfigError
+from softarm.model.registry import TRUST
 
 INTEGRATORS = ("symplectic_euler",)
 EXCITATION_KINDS = ("product_of_sines", "sum_of_sines")
@@ -66,6 +67,11 @@ def _check_train(t: TrainConfig) -> None:
     _require(0 <= t.seed <= MAX_SEED, "train.seed", t.seed, f"must be in 0..{MAX_SEED} (seeds are 32-bit)")
     _require(t.node_target >= 0, "train.node_target", t.node_target, "must be >= 0 (0: no node target)")
     _require(t.precision in PRECISIONS, "train.precision", t.precision, f"must be one of {list(PRECISIONS)}")
+    _require(1 <= t.ensemble <= 16, "train.ensemble", t.ensemble, "must be in 1..16 (1: one model)")
+    _require(t.confidence in TRUST, "train.confidence", t.confidence, f"must be one of {list(TRUST)}")  # the registry's
+    _require(t.confidence != "ensemble" or t.ensemble > 1, "train.confidence", t.confidence,
+             "needs train.ensemble > 1 (members to disagree)")
+    _require(t.false_alarms_per_minute > 0, "train.false_alarms_per_minute", t.false_alarms_per_minute, "must be > 0")
 
 
 def _check_sensing(s: SensingConfig) -> None:

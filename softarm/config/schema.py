@@ -156,6 +156,9 @@ class TrainConfig:
     seed: int
     precision: str = "auto"
     node_target: float = 0.0
+    ensemble: int = 1
+    confidence: str = "error_head"
+    false_alarms_per_minute: float = 1.0
 
     @property
     def lead(self) -> int:

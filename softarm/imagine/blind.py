@@ -10,8 +10,8 @@ from softarm.errors import BlindRangeError
 from softarm.model.metrics import EPS
 
 
-def parse_blind(ranges: Sequence[str]) -> list[tuple[float, float]]:
-    """'START:END' strings in seconds -> [(start, end)]."""
+def parse_blind(ranges: Sequence[str], option: str = "--blind") -> list[tuple[float, float]]:
+    """'START:END' strings in seconds -> [(start, end)]; `option` names them in an error."""
     out = []
     for text in ranges:
         start, sep, end = text.partition(":")
@@ -20,7 +20,7 @@ def parse_blind(ranges: Sequence[str]) -> list[tuple[float, float]]:
         except ValueError:
             pair = None
         if not sep or pair is None or not (math.isfinite(pair[0]) and not math.isnan(pair[1]) and pair[0] < pair[1]):
-            raise BlindRangeError(f"--blind {text!r}: give START:END in seconds with START < END, e.g. 95:100")
+            raise BlindRangeError(f"{option} {text!r}: give START:END in seconds with START < END, e.g. 95:100")
         out.append(pair)
     return out
 

@@ -2,7 +2,8 @@
 
 `/imagination/image`: foxglove.RawImage, mono8, pixel probability x 255; `/imagination/iou`: JSON
 (jsonschema) with the frame's IoU against the camera; `/imagination/confidence`: JSON with the model's
-own trust in the frame, which a robot would have without a camera. Log times equal the source frames' times, so
+own trust in the frame, which a robot would have without a camera; `/imagination/surprise` and `/imagination/alarm`:
+JSON with what the frame's sample felt beyond the command's prediction, and whether it raised the alarm. Log times equal the source frames' times, so
 both files line up on one timeline; metadata `softarm.imagination` names the checkpoint and the
 source recording (with their SHA-256 fingerprints).
 """
@@ -23,6 +24,8 @@ if TYPE_CHECKING:
 IMAGE = "/imagination/image"
 IOU = "/imagination/iou"
 CONFIDENCE = "/imagination/confidence"
+SURPRISE = "/imagination/surprise"
+ALARM = "/imagination/alarm"
 FORMAT = "softarm-imagination/1"
 META = "softarm.imagination"
 IOU_SCHEMA = ("softarm.ImaginationIoU", json_schema(
@@ -34,11 +37,22 @@ CONFIDENCE_SCHEMA = ("softarm.ImaginationConfidence", json_schema(
     "mean squared error of the normalised latent); 0.5 means as far off as the mean frame's code",
     {"confidence": {"type": "number", "exclusiveMinimum": 0, "maximum": 1}}))
 
+SURPRISE_SCHEMA = ("softarm.ImaginationSurprise", json_schema(
+    "softarm.ImaginationSurprise", "What the stretch felt beyond what the forward model expected from the arm's state "
+    "and command: the squared residual in units of its spread on undisturbed motion, averaged over the sensors and "
+    "smoothed (about 1 undisturbed); null until the first prediction",
+    {"surprise": {"type": ["number", "null"], "minimum": 0}}))
+ALARM_SCHEMA = ("softarm.ImaginationAlarm", json_schema(
+    "softarm.ImaginationAlarm", "The surprise is above the alarm threshold set on undisturbed training motion",
+    {"alarm": {"type": "boolean"}}))
+
 
 def write_imagination(result: "Replay", path: Union[str, Path], imagined_bytes: np.ndarray) -> Path:
     """One message per imagined frame on each topic (`imagined_bytes`: the frames as grey bytes);
     nothing is left behind if writing fails."""
-    mcap = McapFile(Path(path), (IMAGE,), {IOU: IOU_SCHEMA, CONFIDENCE: CONFIDENCE_SCHEMA})
+    felt = bool(np.isfinite(result.surprise).any())  # a checkpoint with a forward model
+    mcap = McapFile(Path(path), (IMAGE,), {IOU: IOU_SCHEMA, CONFIDENCE: CONFIDENCE_SCHEMA,
+                                           **({SURPRISE: SURPRISE_SCHEMA, ALARM: ALARM_SCHEMA} if felt else {})})
     try:
         frames = np.flatnonzero(result.predicted)
         stamps = [int(round(result.times[k] * 1e9)) for k in frames]
@@ -47,7 +61,8 @@ def write_imagination(result: "Replay", path: Union[str, Path], imagined_bytes: 
             IOU: [orjson.dumps({"t": ns / 1e9, "iou": float(result.iou[k]), "blind": bool(result.blind[k])})
                   for ns, k in zip(stamps, frames)],
             CONFIDENCE: [orjson.dumps({"t": ns / 1e9, "confidence": float(result.confidence[k])})
-                         for ns, k in zip(stamps, frames)]})
+                         for ns, k in zip(stamps, frames)],
+            **(surprise_messages(result, stamps, frames) if felt else {})})
         source = result.recording.path
         return mcap.close({META: {
             "format": FORMAT, "checkpoint": str(result.checkpoint), "checkpoint_sha256": fingerprint(result.checkpoint),
@@ -56,3 +71,10 @@ def write_imagination(result: "Replay", path: Union[str, Path], imagined_bytes: 
     except BaseException:
         mcap.discard()
         raise
+
+
+def surprise_messages(result: "Replay", stamps: list[int], frames: np.ndarray) -> dict[str, list[bytes]]:
+    """One surprise and one alarm message per imagined frame."""
+    value = [float(result.surprise[k]) if np.isfinite(result.surprise[k]) else None for k in frames]
+    return {SURPRISE: [orjson.dumps({"t": ns / 1e9, "surprise": v}) for ns, v in zip(stamps, value)],
+            ALARM: [orjson.dumps({"t": ns / 1e9, "alarm": bool(result.alarm[k])}) for ns, k in zip(stamps, frames)]}

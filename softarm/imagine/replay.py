@@ -27,6 +27,8 @@ class Replay:
     predicted: np.ndarray  # (T,) bool: frames with an imagination (all but the first history (+1) ones)
     iou: np.ndarray        # (T,) imagination IoU per frame, NaN where nothing is imagined
     confidence: np.ndarray  # (T,) the model's trust in each imagined frame, in (0, 1]; NaN where nothing is imagined
+    surprise: np.ndarray   # (T,) the surprise of the sample each frame is imagined from; NaN where none is known
+    alarm: np.ndarray      # (T,) bool: the surprise is above the checkpoint's alarm threshold
     blind: np.ndarray      # (T,) bool: camera blacked out
     fused: np.ndarray      # (T, H, W): the camera where it sees, the imagination where it is blind
     nodes_px: Optional[np.ndarray]  # (T, N, 2) node positions in pixel coordinates [u, v], if read
@@ -57,8 +59,11 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     predicted = np.zeros(len(rec.times), bool)
     predicted[targets] = True
     scored = predicted & rec.seen  # a camera's gap has nothing to score against
-    confidence = np.full(len(rec.times), np.nan)
-    confidence[targets] = prediction.confidence
+    confidence, surprise = np.full(len(rec.times), np.nan), np.full(len(rec.times), np.nan)
+    confidence[targets] = model.imaginer.confidence(prediction)
+    if prediction.surprise is not None:
+        surprise[targets] = prediction.surprise
+    alarm = surprise > model.imaginer.surprise.threshold if model.imaginer.surprise is not None else np.zeros(len(surprise), bool)
     fused = rec.frames.astype(np.float32)
     fused[mask] = imagined[mask]
     M = rec.world_to_pixel
@@ -72,11 +77,14 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
            for key, subset in (("imagination", predicted), ("imagination_last_5s", last),
                                ("imagination_blind", mask), ("imagination_seeing", ~mask))},
         "fused": summarise(fused_scores(imagination, rec.frames, mask), rec.seen),
-        "confidence": {"mean": float(prediction.confidence.mean()),
-                       "spearman_with_iou": spearman(prediction.confidence[rec.seen[targets]], iou[scored])},
+        "confidence": {"mean": float(confidence[targets].mean()),
+                       "spearman_with_iou": spearman(confidence[scored], iou[scored])},
+        "surprise": {"mean": float(np.nanmean(surprise)) if np.isfinite(surprise).any() else None,
+                     "alarm_frames": int(alarm.sum()), "alarms": int((alarm[1:] & ~alarm[:-1]).sum() + alarm[:1].sum())},
     }
     return Replay(recording=rec, checkpoint=model.path, inputs=reading.inputs,
                   channels=[(c.name, w) for c, w in zip(model.imaginer.inputs.channels, model.imaginer.inputs.widths)],
-                  imagined=imagined, predicted=predicted, iou=iou, confidence=confidence, blind=mask, fused=fused,
+                  imagined=imagined, predicted=predicted, iou=iou, confidence=confidence, surprise=surprise, alarm=alarm,
+                  blind=mask, fused=fused,
                   metrics=metrics,
                   nodes_px=rec.positions @ M[:, :2].T + M[:, 2] if nodes and rec.positions is not None else None)

@@ -35,7 +35,8 @@ class ReplayOutcome:
 
 def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (), rrd: Optional[PathLike] = None,
            mcap: Optional[PathLike] = None, png: Optional[PathLike] = None, spawn: bool = False,
-           force: bool = False, sensor_noise: Optional[dict[str, Any]] = None) -> ReplayOutcome:
+           force: bool = False, sensor_noise: Optional[dict[str, Any]] = None,
+           png_span: Optional[str] = None) -> ReplayOutcome:
     """Imagine every frame of `recording` with `checkpoint` and score it; write the outputs asked for.
 
     `blind` takes camera blackouts as 'START:END' seconds; `sensor_noise` replaces the imperfections the
@@ -46,18 +47,23 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
 
     start = time.perf_counter()
     ranges = parse_blind(blind)  # bad input first: a refused run creates no folder
+    span = parse_blind([png_span], "--png-span")[0] if png_span is not None else None
     outputs = [Path(p) for p in (rrd, mcap, png) if p is not None]
     check_outputs(outputs, force, inputs=[checkpoint, recording])
     with made_folders(outputs), claimed(outputs):
         result = compute_replay(checkpoint, recording, ranges, nodes=rrd is not None or spawn, sensor_noise=sensor_noise)
-        write_outputs(result, rrd, mcap, png, spawn)
+        write_outputs(result, rrd, mcap, png, spawn, span)
     return ReplayOutcome(result, time.perf_counter() - start)
 
 
 def write_outputs(result: "Replay", rrd: Optional[PathLike], mcap: Optional[PathLike], png: Optional[PathLike],
-                  spawn: bool) -> None:
+                  spawn: bool, span: Optional[tuple[float, float]] = None) -> None:
     """The timeline (file and/or viewer), the imagination MCAP and the filmstrip asked for."""
     timeline = rrd is not None or spawn
+    if png is not None:  # first: a span without frames is refused before any file is written
+        from softarm.view.filmstrip import replay_filmstrip, save_png  # PIL only when a picture is asked for
+
+        picture = replay_filmstrip(result, span=span)
     if timeline or mcap is not None:
         from softarm.view.images import probability_bytes
 
@@ -69,6 +75,4 @@ def write_outputs(result: "Replay", rrd: Optional[PathLike], mcap: Optional[Path
     if mcap is not None:
         write_imagination(result, mcap, imagined_bytes)
     if png is not None:
-        from softarm.view.filmstrip import replay_filmstrip, save_png  # PIL only when a picture is asked for
-
-        save_png(replay_filmstrip(result), png)
+        save_png(picture, png)

@@ -2,9 +2,10 @@
 
 A robot's loop calls `step(sample)` once per reading (every 10 ms at the default frame rate). The latent
 model's online reader keeps what it needs (the window model its last `history` samples, a stream model
-only its recurrent state) and answers; the decoder then draws one latent code: the same computation as a
-batch replay, frame for frame. With the paper's set-up (`include_current` false) the samples up to k
-imagine frame k+1, what the body will look like at the next sample; with `include_current` frame k.
+only its recurrent state; an ensemble one reader per member) and answers; the decoder then draws one latent
+code; the surprise's forward model compares the sample with what the state before it expected: the same
+computation as a batch replay, frame for frame. With the paper's set-up (`include_current` false) the samples
+up to k imagine frame k+1, what the body will look like at the next sample; with `include_current` frame k.
 """
 
 from dataclasses import dataclass
@@ -13,7 +14,7 @@ from typing import TYPE_CHECKING, Any, Optional, Union
 
 import numpy as np
 
-from softarm.model.prediction import Prediction
+from softarm.model.prediction import Prediction, joined_members
 
 if TYPE_CHECKING:
     from softarm.model.imaginer import Imaginer
@@ -23,7 +24,9 @@ if TYPE_CHECKING:
 class ImaginedFrame:
     frame: int                  # the frame index imagined
     probabilities: np.ndarray   # (H, W) pixel probabilities
-    confidence: float           # in (0, 1]: how far to trust it (`softarm.model.latent.Prediction.confidence`)
+    confidence: float           # in (0, 1]: how far to trust it (the checkpoint's `train.confidence`)
+    surprise: float = float("nan")  # what the sample felt beyond what the command predicted (~1 undisturbed)
+    alarm: bool = False             # the surprise is above the checkpoint's alarm threshold
 
 
 class StreamingImaginer:
@@ -50,12 +53,17 @@ class StreamingImaginer:
                              f"({', '.join(f'{c.name}: {w}' for c, w in zip(imaginer.inputs.channels, imaginer.inputs.widths))}), "
                              f"got shape {raw.shape}")
         self.samples += 1
-        answer = self._reader.step(imaginer.normalised(raw))
-        if answer is None:
+        normalised = imaginer.normalised(raw)
+        answers = [reader.step(normalised) for reader in self._readers]
+        surprise = (float("nan") if self._surprise is None
+                    else self._surprise.step(self._readers[0].state_vector, normalised.astype(np.float64)))
+        if answers[0] is None:
             return None
-        prediction = Prediction(np.array([self.samples - 1 + imaginer.latent.lead]), answer[0][None], answer[1][None])
-        return ImaginedFrame(int(prediction.targets[0]), imaginer.decode(prediction.latents)[0],
-                             float(prediction.confidence[0]))
+        target = np.array([self.samples - 1 + imaginer.latent.lead])
+        prediction = joined_members([Prediction(target, latent[None], log_error[None]) for latent, log_error in answers])
+        return ImaginedFrame(int(target[0]), imaginer.decode(prediction.latents)[0],
+                             float(imaginer.confidence(prediction)[0]), surprise,
+                             bool(imaginer.surprise is not None and surprise > imaginer.surprise.threshold))
 
     def assemble(self, channels: dict[str, Any]) -> np.ndarray:
         """One sample from readings named by channel, in the checkpoint's order."""
@@ -66,5 +74,8 @@ class StreamingImaginer:
 
     def reset(self) -> None:
         """Forget what was read (a new run or a gap in the readings)."""
-        self._reader = self.imaginer.latent.online()
+        imaginer = self.imaginer
+        self._readers = [model.online() for model in (imaginer.latent, *imaginer.members)]
+        self._surprise = imaginer.surprise.online() if imaginer.surprise is not None else None
         self.samples = 0  # samples seen so far; the latest one is sample samples - 1
+

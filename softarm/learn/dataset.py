@@ -37,6 +37,7 @@ class RunData:
     held_out: bool = False      # a validation recording: nothing of it trains (b0 = 0)
     positions: Optional[np.ndarray] = None  # (T, N, 2) float32 node positions (m), where the recording has them
     seen: Optional[np.ndarray] = None  # (T,) bool: frames the camera has (None: all); gaps train and score nothing
+    calm: Optional[np.ndarray] = None  # (T,) bool: no disturbance acts (None: none ever does)
 
     def segment(self, name: str) -> tuple[int, int]:
         b0, b1 = self.bounds
@@ -142,7 +143,8 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
                       inputs=read_channels(channels, rec, config).astype(np.float32), times=rec.times,
                       bounds=(0, bounds[1]) if validation else bounds, held_out=validation,
                       positions=None if rec.positions is None else rec.positions.astype(np.float32),
-                      seen=rec.seen if not rec.seen.all() else None)
+                      seen=rec.seen if not rec.seen.all() else None,
+                      calm=~rec.active.any(axis=1) if rec.active.any() else None)
         shape = recording_shape(rec.model, channels, config)
         if first is None:
             first = (path.name, shape)

@@ -14,8 +14,11 @@ from softarm.model.answers import score_answers
 from softarm.model.autoencoder import reconstruct
 from softarm.model.baselines import Baselines, ridge_fit
 from softarm.model.imaginer import Imaginer
+from softarm.model.latent import LatentModel
 from softarm.model.metrics import image_scores, summarise
 from softarm.model.prediction import Prediction
+from softarm.model.registry import trust_class
+from softarm.model.trust import ErrorHeadTrust
 
 MAX_SCORED = 10_000  # held-out frames scored per segment: a corpus's metrics cost what one long recording's do
 
@@ -25,12 +28,18 @@ def evenly(count: int, most: int) -> np.ndarray:
     return np.arange(count) if count <= most else np.linspace(0, count - 1, most).round().astype(int)
 
 
-def imaginer_of(state: TrainState) -> Imaginer:
-    """The state's networks in eval mode, as replay would use them."""
+def imaginer_of(state: TrainState, latent: Optional[LatentModel] = None) -> Imaginer:
+    """The state's networks in eval mode, as replay would use them (with `latent`: that latent model alone, an
+    ensemble member's validation)."""
     state.autoencoder.eval()
+    if latent is not None:
+        return Imaginer(state.autoencoder, latent.eval(), state.latent_scaler, state.inputs)
     if state.latent is not None:
         state.latent.eval()
-    return Imaginer(state.autoencoder, state.latent, state.latent_scaler, state.inputs)
+    members = tuple(m.eval() for m in state.member_networks()) if state.phase == "done" else ()
+    return Imaginer(state.autoencoder, state.latent, state.latent_scaler, state.inputs, members, state.surprise,
+                    trust_class(state.config.train.confidence).build(state.calibration)
+                    or ErrorHeadTrust())  # the calibrated way, before its map is fitted
 
 
 def segment_prediction(imaginer: Imaginer, data: Dataset, segment: str) -> Prediction:

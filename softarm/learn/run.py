@@ -116,7 +116,9 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
 def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd: Optional[PathLike], spawn: bool,
            progress: Optional[Progress], stop: Callable[[], bool], minutes: Optional[float], start: float) -> TrainResult:
     """Read, fit, evaluate and save, once every input and output is checked and held."""
+    from softarm.learn.calibrate import fit_calibration
     from softarm.learn.evaluate import evaluate, fit_baselines  # torch loads here, not when softarm is imported
+    from softarm.learn.surprise_fit import fit_surprise_of
     from softarm.learn.train import fit
     from softarm.learn.train_state import start_state
 
@@ -135,6 +137,8 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
             complete = fit(state, out, observer, progress or (lambda *_: None), stop)
         if not complete:
             return TrainResult(out, None, None, False, time.perf_counter() - start, saved=resume or state.saves > 0)
+        state.surprise = fit_surprise_of(state)
+        state.calibration = fit_calibration(state)
         baselines = fit_baselines(state)
         metrics = evaluate(state, baselines)
         state.save(out, metrics, baselines)

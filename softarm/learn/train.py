@@ -23,7 +23,7 @@ from softarm.learn.observer import NoObserver, Progress, TrainingObserver
 from softarm.learn.precision import forward_precision
 from softarm.learn.train_state import TrainState
 from softarm.model.autoencoder import in_batches, reconstruct
-from softarm.model.latent import Step
+from softarm.model.latent import LatentModel, Step
 from softarm.model.registry import latent_model_class
 
 CLIP_FRAMES = 100  # the held-out clip shown each epoch: the first second of the imagination segment
@@ -53,9 +53,11 @@ def schedules(state: TrainState) -> tuple[Schedule, Schedule]:
 
 
 def fit(state: TrainState, out: Path, observer: TrainingObserver, progress: Progress, stop: Callable[[], bool]) -> bool:
-    """Both phases from wherever `state` stands; False when `stop()` interrupted it."""
+    """Both phases (and an ensemble's other members) from wherever `state` stands; False when `stop()`
+    interrupted it."""
     ae, latent = schedules(state)
-    report = lambda done, losses: progress(done, ae.total + latent.total, losses)  # noqa: E731
+    total = ae.total + latent.total * state.config.train.ensemble
+    report = lambda done, losses: progress(done, total, losses)  # noqa: E731
     if state.phase == "ae":
         if not fit_autoencoder(state, ae, out, observer, report, stop):
             return False
@@ -64,9 +66,16 @@ def fit(state: TrainState, out: Path, observer: TrainingObserver, progress: Prog
         state.make_latent()
         state.save(out)
     if state.phase == "latent":
-        if not fit_latent(state, latent, ae.total, out, observer, report, stop):
+        if not fit_latent(state, state.latent, state.latent_optimizer, latent, ae.total, out, observer, report, stop):
             return False
-        state.phase = "done"
+        state.next_member()
+        state.save(out)
+    while state.phase == "members":
+        before = ae.total + latent.total * (1 + len(state.members))
+        if not fit_latent(state, state.member, state.member_optimizer, latent, before, out, observer, report, stop):
+            return False
+        state.next_member()
+        state.save(out)
     return True
 
 
@@ -99,19 +108,21 @@ def fit_autoencoder(state: TrainState, schedule: "Schedule", out: Path, observer
     return True
 
 
-def fit_latent(state: TrainState, schedule: "Schedule", before: int, out: Path, observer: TrainingObserver,
-               report: Report, stop: Callable[[], bool]) -> bool:
-    """The latent model's epochs, cut into steps as the model cuts them, validated on held-out frames."""
-    t, model = state.config.train, state.latent
-    epoch_steps = model.epoch(state.training_series(), lambda items, epoch: epoch_order(items, t.seed, 1, epoch))
+def fit_latent(state: TrainState, model: LatentModel, optimizer: torch.optim.Optimizer, schedule: "Schedule",
+               before: int, out: Path, observer: TrainingObserver, report: Report, stop: Callable[[], bool]) -> bool:
+    """A latent model's epochs (the model's, or an ensemble member's), cut into steps as the model cuts them,
+    validated on held-out frames. Members see the epochs in their own shuffles."""
+    t = state.config.train
+    phase = 2 + len(state.members) if state.phase == "members" else 1  # the shuffle of each member its own
+    epoch_steps = model.epoch(state.training_series(), lambda items, epoch: epoch_order(items, t.seed, phase, epoch))
     while state.epoch < schedule.epochs:
         stepped = lambda i: report(before + state.epoch * schedule.steps_per_epoch + i, {})  # noqa: E731
-        loss = run_epoch(model, state.latent_optimizer, epoch_steps(state.epoch), schedule, state.epoch, t.lr_lstm,
+        loss = run_epoch(model, optimizer, epoch_steps(state.epoch), schedule, state.epoch, t.lr_lstm,
                          model.clip_norm, t.precision, stepped, stop)
         if loss is None:
             return False
         with forward_precision(t.precision):
-            held_out = held_out_mse(imaginer_of(state), state.data, state.codes())
+            held_out = held_out_mse(imaginer_of(state, model), state.data, state.codes())
         end_epoch(state, out, observer, report, loss, held_out)
         if state.epoch % 10 == 0 or state.epoch == schedule.epochs:
             show_clip(state, observer, imagination=True)
@@ -155,7 +166,8 @@ def run_epoch(network: torch.nn.Module, optimizer: torch.optim.Optimizer, steps:
 def end_epoch(state: TrainState, out: Path, observer: TrainingObserver, report: Report, train_loss: float,
               held_out: float) -> None:
     """Count the epoch, keep its losses, save the checkpoint, report to the view and the progress bar."""
-    names = ("latent_train", "latent_val") if state.phase != "ae" else ("ae_train", "ae_test")
+    names = {"ae": ("ae_train", "ae_test"), "latent": ("latent_train", "latent_val"),
+             "members": ("members_train", "members_val")}[state.phase]
     state.epoch += 1
     for name, value in zip(names, (train_loss, held_out)):
         state.losses[name].append(value)
@@ -167,8 +179,10 @@ def end_epoch(state: TrainState, out: Path, observer: TrainingObserver, report: 
 def training_step(state: TrainState) -> int:
     """Optimisation steps taken so far over both networks: one axis for every loss curve of the live view."""
     ae, latent = schedules(state)
+    member = min(state.epoch * latent.steps_per_epoch, latent.total) if state.phase == "members" else 0
     return (min(len(state.losses["ae_train"]) * ae.steps_per_epoch, ae.total)
-            + min(len(state.losses["latent_train"]) * latent.steps_per_epoch, latent.total))
+            + min(len(state.losses["latent_train"]) * latent.steps_per_epoch, latent.total)
+            + latent.total * len(state.members) + member)
 
 
 @torch.no_grad()

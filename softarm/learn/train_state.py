@@ -27,6 +27,10 @@ from softarm.model.inputs import Inputs, channels, chosen_inputs
 from softarm.model.latent import LatentModel, TrainingSeries
 from softarm.model.registry import latent_model_class
 from softarm.model.scaler import Scaler
+from softarm.model.surprise import SurpriseModel
+
+GROWABLE = ("ensemble", "confidence", "false_alarms_per_minute")  # what --resume takes from the asked settings:
+# a finished model grows its ensemble and sets its confidence and alarm anew without training again
 
 
 @dataclass
@@ -39,10 +43,16 @@ class TrainState:
     latent_optimizer: Optional[torch.optim.Optimizer] = None
     latent_scaler: Optional[Scaler] = None
     inputs: Optional[Inputs] = None        # the input channels with their scalers
-    phase: str = "ae"   # "ae", then "latent", then "done"
-    epoch: int = 0      # epochs finished in this phase
+    phase: str = "ae"   # "ae", then "latent", then "members" (an ensemble's others, one after another), then "done"
+    epoch: int = 0      # epochs finished in this phase (of the member in training)
     losses: dict[str, list[float]] = field(
-        default_factory=lambda: {"ae_train": [], "ae_test": [], "latent_train": [], "latent_val": []})
+        default_factory=lambda: {"ae_train": [], "ae_test": [], "latent_train": [], "latent_val": [],
+                                 "members_train": [], "members_val": []})
+    members: list[dict[str, torch.Tensor]] = field(default_factory=list)  # finished members' weights
+    member: Optional[LatentModel] = None   # the member in training
+    member_optimizer: Optional[torch.optim.Optimizer] = None
+    surprise: Optional[SurpriseModel] = None
+    calibration: Optional[dict[str, Any]] = None   # the calibrated confidence's map (learn/calibrate.py)
     saves: int = 0      # checkpoints this run has written
     _codes: Optional[LatentCodes] = field(default=None, repr=False)
 
@@ -64,11 +74,34 @@ class TrainState:
 
     def make_latent(self) -> None:
         """The latent model and its optimiser, seeded on their own so that resume rebuilds the same network."""
+        self.latent, self.latent_optimizer = self._new_latent(self.config.train.seed + 1)
+
+    def next_member(self) -> None:
+        """Keep the member just trained (if any) and start the next, or end training when the ensemble is whole."""
+        if self.member is not None:
+            self.members.append({k: v.detach().clone() for k, v in self.member.state_dict().items()})
+        self.epoch, self.member, self.member_optimizer = 0, None, None
+        if len(self.members) + 1 >= self.config.train.ensemble:
+            self.phase = "done"
+            return
+        self.phase = "members"
+        self.member, self.member_optimizer = self._new_latent(self.config.train.seed + 2 + len(self.members))
+
+    def member_networks(self) -> list[LatentModel]:
+        """The finished members, rebuilt from their weights."""
+        networks = []
+        for weights in self.members:
+            network, _ = self._new_latent(0)
+            network.load_state_dict(weights)
+            networks.append(network)
+        return networks
+
+    def _new_latent(self, seed: int) -> tuple[LatentModel, torch.optim.Optimizer]:
         t = self.config.train
-        torch.manual_seed(t.seed + 1)
-        self.latent = latent_model_class(t.model)(self.inputs.features, self.latent_scaler.kept, t,
-                                                  node_outputs(self.data, t.node_target))
-        self.latent_optimizer = torch.optim.Adam(self.latent.parameters(), lr=t.lr_lstm)
+        torch.manual_seed(seed)
+        network = latent_model_class(t.model)(self.inputs.features, self.latent_scaler.kept, t,
+                                              node_outputs(self.data, t.node_target))
+        return network, torch.optim.Adam(network.parameters(), lr=t.lr_lstm)
 
     def training_series(self) -> list[TrainingSeries]:
         """Every recording's normalised inputs and targets (the latent, then the node positions where the model
@@ -88,8 +121,17 @@ class TrainState:
             "recordings": self.data.fingerprints(), "progress": {"phase": self.phase, "epoch": self.epoch},
             "losses": self.losses, "autoencoder": self.autoencoder.state_dict(),
             "latent_model": self.latent.state_dict() if self.latent is not None else None,
-            "optimizer": (self.ae_optimizer if self.phase == "ae" else self.latent_optimizer).state_dict(),
+            "optimizer": {"ae": self.ae_optimizer, "members": self.member_optimizer}.get(self.phase,
+                                                                                          self.latent_optimizer).state_dict(),
         }
+        if self.members:
+            state["members"] = self.members
+        if self.member is not None:
+            state["member_model"] = self.member.state_dict()
+        if self.surprise is not None:
+            state["surprise"] = self.surprise.to_state()
+        if self.calibration is not None:
+            state["calibration"] = self.calibration
         if self.latent_scaler is not None:
             state["latent_scaler"] = self.latent_scaler.to_state()
             state["inputs"] = self.inputs.to_state()
@@ -110,7 +152,7 @@ class TrainState:
             raise CheckpointError(f"--resume: {path} was trained on other recordings ({names}); "
                                   "give the same recordings in the same order")
         self.phase, self.epoch = saved["progress"]["phase"], saved["progress"]["epoch"]
-        self.losses = {k: list(v) for k, v in saved["losses"].items()}
+        self.losses.update({k: list(v) for k, v in saved["losses"].items()})
         try:
             self.autoencoder.load_state_dict(saved["autoencoder"])
             if self.phase == "ae":
@@ -119,7 +161,13 @@ class TrainState:
             self.latent_scaler, self.inputs = Scaler.from_state(saved["latent_scaler"]), Inputs.from_state(saved["inputs"])
             self.make_latent()
             self.latent.load_state_dict(saved["latent_model"])
-            self.latent_optimizer.load_state_dict(saved["optimizer"])
+            self.members = list(saved.get("members", []))
+            if self.phase == "members":
+                self.member, self.member_optimizer = self._new_latent(0)
+                self.member.load_state_dict(saved["member_model"])
+                self.member_optimizer.load_state_dict(saved["optimizer"])
+            elif self.phase == "latent":
+                self.latent_optimizer.load_state_dict(saved["optimizer"])
         except (RuntimeError, KeyError, TypeError, ValueError) as e:
             raise CheckpointError(f"--resume: {path} does not fit this run's networks ({type(e).__name__}); "
                                   "start afresh with --force") from None
@@ -140,6 +188,9 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
     state = TrainState(config, data, autoencoder, torch.optim.Adam(autoencoder.parameters(), lr=t.lr_ae))
     if saved is not None:
         state.restore(saved, out)
+        if state.phase == "done" and len(state.members) + 1 < t.ensemble:
+            state.next_member()  # a finished model grows its ensemble
+        del state.members[max(t.ensemble - 1, 0):]
     return state
 
 
@@ -148,6 +199,9 @@ def _saved_config(saved: dict[str, Any], asked: Config) -> Config:
     defaults) that differ from it are named and ignored."""
     config = checkpoint_config(saved)
     now, then, default = asked.to_dict(), config.to_dict(), load_config().to_dict()
+    grown = {f"train.{k}": now["train"][k] for k in GROWABLE if now["train"][k] != default["train"][k]}
+    config = override(config, grown)
+    then = config.to_dict()
     ignored = [f"{section}.{k} = {v}" for section in ("train", "sensing") for k, v in now[section].items()
                if then[section].get(k) != v and default[section].get(k) != v]
     if ignored:

@@ -8,7 +8,7 @@ import torch
 
 from softarm.errors import CheckpointError
 
-PHASES = ("ae", "latent", "done")
+PHASES = ("ae", "latent", "members", "done")
 
 
 def check_contents(state: dict[str, Any], path: Path) -> None:
@@ -36,6 +36,11 @@ def check_contents(state: dict[str, Any], path: Path) -> None:
         require(isinstance(inputs, list) and len(inputs) > 0 and all(
             isinstance(e, dict) and isinstance(e.get("name"), str) and _positive_int(e.get("features"))
             and _scaler(e.get("scaler")) and len(e["scaler"]["mean"]) == e["features"] for e in inputs), "inputs")
+    require(isinstance(state.get("members", []), list) and all(_tensors(m) for m in state.get("members", [])),
+            "ensemble members")
+    require(progress["phase"] != "members" or _tensors(state.get("member_model")), "ensemble member in training")
+    require("surprise" not in state or _surprise(state["surprise"]), "surprise model")
+    require("calibration" not in state or _calibration(state["calibration"]), "calibrated confidence")
     if "baselines" in state:
         b = state["baselines"]
         require(isinstance(b, dict) and all(isinstance(b.get(k), torch.Tensor)
@@ -46,6 +51,28 @@ def check_contents(state: dict[str, Any], path: Path) -> None:
             require(isinstance(b["node_weights"], torch.Tensor) and isinstance(b.get("node_bias"), torch.Tensor)
                     and b["node_weights"].ndim == 2 and b["node_bias"].shape == b["node_weights"].shape[1:],
                     "node baseline")
+
+
+def _surprise(value: Any) -> bool:
+    """The forward model's weights (rows: state, command, constant) to the felt sensors, their spreads and the
+    alarm's threshold, all finite."""
+    try:
+        weights, scale = torch.tensor(value["weights"], dtype=torch.float64), torch.tensor(value["scale"], dtype=torch.float64)
+        felt, command = list(value["felt"]), list(value["command"])
+        threshold = float(value["threshold"])
+    except (KeyError, TypeError, ValueError, RuntimeError, OverflowError):
+        return False
+    return (weights.ndim == 2 and weights.shape[1] == len(scale) == len(felt) > 0 and weights.shape[0] > len(command)
+            and bool(torch.isfinite(weights).all() and (scale > 0).all()) and threshold == threshold
+            and all(_count(i) for i in felt + command))
+
+
+def _calibration(value: Any) -> bool:
+    try:
+        weights, spread = torch.tensor(value["weights"], dtype=torch.float64), float(value["spread"])
+    except (KeyError, TypeError, ValueError, RuntimeError, OverflowError):
+        return False
+    return weights.ndim == 1 and len(weights) >= 2 and bool(torch.isfinite(weights).all()) and spread >= 0
 
 
 def _positive_int(value: Any) -> bool:

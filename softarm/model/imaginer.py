@@ -7,7 +7,7 @@ float64, and the latent model reads them as float32.
 """
 
 from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
 import torch
@@ -17,9 +17,11 @@ from softarm.model.autoencoder import Autoencoder, decode_codes
 from softarm.model.checkpoint import checkpoint_config, first_line
 from softarm.model.inputs import Inputs
 from softarm.model.latent import LatentModel
-from softarm.model.prediction import Prediction
-from softarm.model.registry import latent_model_class
+from softarm.model.prediction import Prediction, joined_members
+from softarm.model.registry import latent_model_class, trust_class
 from softarm.model.scaler import Scaler
+from softarm.model.surprise import SurpriseModel
+from softarm.model.trust import ErrorHeadTrust, Trust
 from softarm.model.windows import input_windows
 
 
@@ -29,6 +31,9 @@ class Imaginer:
     latent: LatentModel
     latent_scaler: Scaler
     inputs: Inputs
+    members: tuple[LatentModel, ...] = ()      # an ensemble's other members (train.ensemble), beside `latent`
+    surprise: Optional[SurpriseModel] = None   # the forward model of the felt stretch (None: not trained)
+    trust: Trust = ErrorHeadTrust()            # how the confidence is measured (train.confidence)
 
     @classmethod
     def from_checkpoint(cls, state: dict[str, Any]) -> "Imaginer":
@@ -47,10 +52,17 @@ class Imaginer:
         networks = {"autoencoder": lambda: Autoencoder(*state["image_shape"], t.latent),
                     "latent_model": lambda: latent_model_class(t.model)(inputs.features, latent_scaler.kept, t, nodes)}
         autoencoder, latent = (loaded(make, state[key]) for key, make in networks.items())
+        members = tuple(loaded(networks["latent_model"], weights).eval() for weights in state.get("members", []))
         autoencoder.eval()
         latent.eval()
         autoencoder.to(memory_format=torch.channels_last)  # faster convolutions when decoding on the CPU
-        return cls(autoencoder, latent, latent_scaler, inputs)
+        surprise = SurpriseModel.from_state(state["surprise"]) if state.get("surprise") else None
+        if surprise is not None and surprise.weights.shape[0] != t.lstm_hidden + len(surprise.command) + 1:
+            raise CheckpointError("the checkpoint's surprise model does not fit its latent model: train it again")
+        trust = trust_class(t.confidence).build(state.get("calibration"))
+        if trust is None:
+            raise CheckpointError(f"the checkpoint's confidence ({t.confidence}) was not fitted: finish it with --resume")
+        return cls(autoencoder, latent, latent_scaler, inputs, members, surprise, trust)
 
     def normalised(self, raw: np.ndarray) -> np.ndarray:
         """Raw inputs (..., F) as the latent model reads them: normalised, float32."""
@@ -71,7 +83,18 @@ class Imaginer:
         for raw in series:
             if len(raw) <= self.latent.first_frame:
                 raise RecordingError(f"{len(raw)} input samples are too few for a history of {self.latent.history}")
-        return self.latent.answer([self.normalised(raw) for raw in series])
+        normalised = [self.normalised(raw) for raw in series]
+        answers = [model.answer(normalised) for model in (self.latent, *self.members)]
+        predictions = [joined_members(parts) for parts in zip(*answers)]
+        if self.surprise is None:
+            return predictions
+        return [p.with_surprise(self.surprise.series(self.latent.states(n), n)[p.targets - self.latent.lead])
+                for p, n in zip(predictions, normalised)]
+
+    @property
+    def confidence(self) -> Callable[[Prediction], np.ndarray]:
+        """The checkpoint's confidence of a prediction's frames (`train.confidence`)."""
+        return self.trust.confidence
 
     def predict_segments(self, series: Sequence[np.ndarray], bounds: Sequence[tuple[int, int]]) -> Prediction:
         """The answers for one segment [start, end) of each series (targets: (series, frame) pairs)."""

@@ -36,7 +36,9 @@ class TrainingSeries:
 
 class OnlineReader:
     """One stream read sample by sample: `step` takes a normalised sample (P,) and returns the latent answer
-    (K,) and its log squared errors (K,) for the frame it lets the model imagine, or None before the first."""
+    (K,) and its log squared errors (K,) for the frame it lets the model imagine, or None before the first;
+    `state` is then the recurrent state that sample left (H,), None before the model has one."""
+    state_vector: Optional[np.ndarray] = None
 
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
         raise NotImplementedError
@@ -109,6 +111,11 @@ class LatentModel(nn.Module):
         return Prediction.join(parts)
 
     def online(self) -> OnlineReader:
+        raise NotImplementedError
+
+    def states(self, series: np.ndarray) -> np.ndarray:
+        """(T, H) float64: the recurrent state the answer after each sample of a normalised series (T, P) reads;
+        NaN where the model has none yet. The surprise's forward model reads it (`softarm.model.surprise`)."""
         raise NotImplementedError
 
     @classmethod

@@ -1,8 +1,8 @@
-"""A latent model's answers for some frames, and the confidence it has in each (NumPy only: importing it loads
-no network)."""
+"""A latent model's answers for some frames, and what it knows of its own trust in each (NumPy only: importing it
+loads no network)."""
 
-from dataclasses import dataclass
-from typing import Sequence
+from dataclasses import dataclass, fields, replace
+from typing import Optional, Sequence
 
 import numpy as np
 
@@ -11,19 +11,38 @@ import numpy as np
 class Prediction:
     """The latent answers for some frames of one recording (or several, one after another)."""
     targets: np.ndarray     # (M,) frame indices, or (M, 2) (recording, frame) pairs
-    latents: np.ndarray     # (M, K) normalised kept latent features
-    log_error: np.ndarray   # (M, K) the model's own estimate of each feature's log squared error
+    latents: np.ndarray     # (M, K) normalised kept latent features (an ensemble's: its members' mean)
+    log_error: np.ndarray   # (M, K) the error head's estimate of each feature's log squared error (members' mean)
+    spread: Optional[np.ndarray] = None    # (M, K) an ensemble's variance across its members; None for one model
+    surprise: Optional[np.ndarray] = None  # (M,) the surprise of the sample each frame is imagined from
 
     @property
     def confidence(self) -> np.ndarray:
-        """(M,) in (0, 1]: 1 / (1 + the predicted mean squared error of the normalised latent); 0.5 means the
-        model expects to be as far off as a guess of the mean frame's code."""
+        """(M,) in (0, 1]: the error head's, 1 / (1 + the predicted mean squared error of the normalised latent);
+        0.5 means the model expects to be as far off as a guess of the mean frame's code. A checkpoint's chosen
+        confidence is `softarm.model.trust`'s."""
         return 1.0 / (1.0 + np.exp(self.log_error).mean(axis=1))
 
     def take(self, keep: np.ndarray) -> "Prediction":
-        return Prediction(self.targets[keep], self.latents[keep], self.log_error[keep])
+        return Prediction(*(None if a is None else a[keep] for a in self.arrays()))
+
+    def arrays(self) -> tuple[Optional[np.ndarray], ...]:
+        return tuple(getattr(self, f.name) for f in fields(self))
+
+    def with_surprise(self, surprise: np.ndarray) -> "Prediction":
+        return replace(self, surprise=surprise)
 
     @staticmethod
     def join(parts: Sequence["Prediction"]) -> "Prediction":
-        return Prediction(*(np.concatenate(arrays) for arrays in zip(*((p.targets, p.latents, p.log_error)
-                                                                       for p in parts))))
+        return Prediction(*(None if any(a is None for a in arrays) else np.concatenate(arrays)
+                            for arrays in zip(*(p.arrays() for p in parts))))
+
+
+def joined_members(answers: Sequence[Prediction]) -> Prediction:
+    """An ensemble's answer: the members' mean latent, their mean predicted squared error, and the variance
+    between them; one member's answer as it is."""
+    if len(answers) == 1:
+        return answers[0]
+    latents = np.stack([a.latents for a in answers])
+    log_error = np.log(np.mean([np.exp(a.log_error) for a in answers], axis=0))
+    return Prediction(answers[0].targets, latents.mean(axis=0), log_error, latents.var(axis=0))

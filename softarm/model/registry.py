@@ -20,6 +20,22 @@ INPUT_CHANNELS = {
     "drive_rate": "softarm.model.inputs:DriveRate",  # its rate, by a backward difference
 }
 
+TRUST = {
+    "error_head": "softarm.model.trust:ErrorHeadTrust",  # the error head's predicted squared error
+    "ensemble": "softarm.model.trust:EnsembleTrust",      # the members' disagreement (train.ensemble > 1)
+    "calibrated": "softarm.model.trust:CalibratedTrust",  # the IoU predicted from error, surprise and spread
+}
+
+
+def trust_class(name: str) -> Any:
+    """The class `train.confidence` names."""
+    return _load(TRUST, name, "config key 'train.confidence'")
+
+
+def trust_classes() -> list[Any]:
+    """Every way of measuring confidence, in the registry's order."""
+    return [trust_class(name) for name in TRUST]
+
 
 def check_inputs(names: list[str]) -> None:
     """Refuse `train.inputs` naming a channel no class answers to, or one twice, without importing any."""

@@ -53,6 +53,10 @@ class StreamModel(LatentModel):
     def online(self) -> OnlineReader:
         return StreamReader(self)
 
+    @torch.inference_mode()
+    def states(self, series: np.ndarray) -> np.ndarray:
+        return self.rnn(torch.from_numpy(series[None]))[0][0].double().numpy()
+
     @classmethod
     def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig,
                         seen: Sequence[Optional[np.ndarray]] = ()) -> int:
@@ -106,8 +110,9 @@ class StreamReader(OnlineReader):
 
     @torch.inference_mode()
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
-        latent, log_error, self.state = self.model(torch.from_numpy(sample[None, None]), self.state)
+        states, self.state = self.model.rnn(torch.from_numpy(sample[None, None]), self.state)
         self.samples += 1  # the state advances with every sample, answered or not
+        self.state_vector = states[0, 0].double().numpy()
         if self.samples < self.model.history:
             return None
-        return latent[0, 0].numpy(), log_error[0, 0].numpy()
+        return self.model.head(states[0, 0]).numpy(), self.model.error(states[0, 0]).numpy()

@@ -44,6 +44,15 @@ class WindowLSTM(LatentModel):
     def online(self) -> OnlineReader:
         return WindowReader(self)
 
+    @torch.inference_mode()
+    def states(self, series: np.ndarray) -> np.ndarray:
+        """The last state of the window that ends at each sample."""
+        out = np.full((len(series), self.settings.lstm_hidden), np.nan)
+        windows, _ = input_windows(series, self.history, 0)
+        last = lambda w: self.rnn(w)[0][:, -1]  # noqa: E731
+        out[self.history - 1:] = in_batches(last, torch.from_numpy(windows)).double().numpy()
+        return out
+
     @classmethod
     def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig,
                         seen: Sequence[Optional[np.ndarray]] = ()) -> int:
@@ -82,5 +91,7 @@ class WindowReader(OnlineReader):
         self.window.append(sample)
         if len(self.window) < self.model.history:
             return None
-        prediction = self.model.answer_windows(np.stack(self.window)[None], np.zeros(1, int))
+        window = np.stack(self.window)
+        prediction = self.model.answer_windows(window[None], np.zeros(1, int))
+        self.state_vector = self.model.states(window)[-1]
         return prediction.latents[0], prediction.log_error[0]

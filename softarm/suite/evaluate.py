@@ -13,12 +13,14 @@ from typing import TYPE_CHECKING, Any, Callable, Optional, Union
 
 import numpy as np
 
+from softarm.model.registry import trust_classes
 from softarm.suite.manifest import SuiteCase, read_suite
+from softarm.suite.surprise import CaseSurprise, case_surprise, surprise_report
+from softarm.suite.trust import FLAGGED, LEAST_TRUSTED, trust_scores, with_reference
 
 if TYPE_CHECKING:
     from softarm.model.trained import TrainedModel
 
-LEAST_TRUSTED = 0.1  # share of frames whose IoU the confidence figures single out
 Progress = Callable[[int, int], None]
 
 
@@ -32,15 +34,19 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
     from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
 
     suite = read_suite(folder)
-    scorer = CaseScorer(TrainedModel(checkpoint))
+    model = TrainedModel(checkpoint)
+    scorer = CaseScorer(model)
     per_family: dict[str, dict[str, list[dict[str, np.ndarray]]]] = {f: {} for f in suite.families}
-    confidence, iou = [], []
+    trust: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
+    iou, felt = [], []
     for done, case in enumerate(suite.cases, 1):
-        scores, trust = scorer.score(case, sensor_noise)
+        scores, methods, surprise = scorer.score(case, sensor_noise)
         for answer, answer_scores in scores.items():
             per_family[case.family].setdefault(answer, []).append(answer_scores)
-        confidence.append(trust)
+        for name, parts in methods.items():
+            trust.setdefault(name, []).append(parts)
         iou.append(scores["model"]["iou"])
+        felt.append(surprise)
         if progress:
             progress(done, len(suite.cases))
     families = {name: family_scores(parts) for name, parts in per_family.items()}
@@ -49,7 +55,9 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
     return {"suite": suite.version, "checkpoint": str(checkpoint), "families": families,
             "mean": mean_over_families(families),
             "group_means": {group: mean_over_families(rows) for group, rows in groups.items()},
-            "confidence": confidence_scores(np.concatenate(confidence), np.concatenate(iou)),
+            "confidence": confidence_report(trust, np.concatenate(iou), model.config.train.confidence),
+            "surprise": surprise_report(felt, model.imaginer.surprise.threshold if model.imaginer.surprise else np.nan,
+                                        model.config.integration.frame_dt),
             "probes": suite.probes, "groups": suite.groups}
 
 
@@ -58,10 +66,12 @@ class CaseScorer:
 
     def __init__(self, model: "TrainedModel"):
         self.model = model
+        self.ways = [way for way in (cls.build(model.state.get("calibration")) for cls in trust_classes()) if way]
 
     def score(self, case: SuiteCase, sensor_noise: Optional[dict[str, Any]]
-              ) -> tuple[dict[str, dict[str, np.ndarray]], np.ndarray]:
-        """Per-frame scores of every answer on one recording, and the model's confidence in each frame."""
+              ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, tuple[np.ndarray, np.ndarray]], CaseSurprise]:
+        """Per-frame scores of every answer on one recording; every confidence the checkpoint can give of each
+        frame with the IoU a calibrated predictor of its spread would see there; the frames' surprise."""
         from softarm.model.answers import PRIVILEGED, score_answers, score_node_ridge
         from softarm.model.autoencoder import encode_frames
 
@@ -76,7 +86,12 @@ class CaseScorer:
         if baselines.nodes is not None:
             scores[PRIVILEGED] = score_node_ridge(imaginer, baselines, reading.inputs, targets, truth, rec.model,
                                                   rec.pixels_per_metre)
-        return scores, prediction.confidence
+        rng = np.random.default_rng(0)
+        methods = {trust.name: (trust.confidence(prediction), trust.reference_iou(prediction, imaginer.decode, rng))
+                   for trust in self.ways if trust.available(prediction)}
+        surprise = prediction.surprise if prediction.surprise is not None else np.full(len(targets), np.nan)
+        return scores, methods, case_surprise(case.family, surprise, targets, rec.times, rec.active,
+                                              rec.model.get("disturbances", []))
 
 
 def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, Any]:
@@ -97,18 +112,14 @@ def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, An
     return row
 
 
-def confidence_scores(confidence: np.ndarray, iou: np.ndarray) -> dict[str, float]:
-    """How well the confidence ranks imagined frames by their true IoU, over every frame of the suite: the
-    Spearman correlation, and the mean IoU of the least-trusted LEAST_TRUSTED of frames against the rest's."""
-    from softarm.model.metrics import spearman
-
-    order = np.argsort(confidence, kind="stable")
-    low = order[:max(1, round(len(order) * LEAST_TRUSTED))]
-    rest = np.ones(len(order), bool)
-    rest[low] = False
-    return {"spearman": spearman(confidence, iou), "least_trusted_iou": float(iou[low].mean()),
-            "rest_iou": float(iou[rest].mean()) if rest.any() else float("nan"), "least_trusted_share": LEAST_TRUSTED,
-            "frames": int(len(iou))}
+def confidence_report(trust: dict[str, list[tuple[np.ndarray, np.ndarray]]], iou: np.ndarray,
+                      chosen: str) -> dict[str, Any]:
+    """Every confidence's scores over every frame of the suite, each with its reference values."""
+    methods = {}
+    for name, parts in trust.items():
+        confidence, reference = (np.concatenate(a) for a in zip(*parts))
+        methods[name] = with_reference(trust_scores(confidence, iou), trust_scores(confidence, reference))
+    return {"default": chosen, "methods": methods, "least_trusted_share": LEAST_TRUSTED, "flagged_below": FLAGGED}
 
 
 def skill(iou: float, floor: float, ceiling: float) -> float:

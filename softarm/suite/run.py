@@ -12,10 +12,11 @@ PathLike = Union[str, Path]
 
 def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike] = None,
              png: Optional[PathLike] = None, sensor_noise: Optional[dict[str, Any]] = None, force: bool = False,
-             progress: Optional[Progress] = None) -> dict[str, Any]:
+             progress: Optional[Progress] = None, trust_png: Optional[PathLike] = None) -> dict[str, Any]:
     """Score `checkpoint` on every family of the suite in `suite` (see softarm.suite.evaluate); write the
-    document as JSON and the bars as PNG where asked. Outputs are checked before any work."""
-    outputs = [Path(p) for p in (json_path, png) if p is not None]
+    document as JSON, the bars as PNG and the confidences' sparsification curves as PNG where asked. Outputs
+    are checked before any work."""
+    outputs = [Path(p) for p in (json_path, png, trust_png) if p is not None]
     cases = read_suite(suite).cases  # a missing or damaged suite is refused before any work
     check_outputs(outputs, force, inputs=[checkpoint, Path(suite) / MANIFEST, *(case.path for case in cases)])
     with made_folders(outputs), claimed(outputs):
@@ -26,4 +27,8 @@ def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike
             from softarm.view.suite_plot import save_suite_png
 
             save_suite_png(evaluation, png)
+        if trust_png is not None:
+            from softarm.view.trust_plot import save_sparsification_png
+
+            save_sparsification_png(evaluation["confidence"], trust_png, evaluation["checkpoint"])
     return evaluation

@@ -87,5 +87,11 @@ def _log_signals(rec: rr.RecordingStream, result: Any) -> None:
     rec.send_columns("signals/iou", indexes=imagined_times, columns=rr.Scalars.columns(scalars=result.iou[seen]))
     rec.send_columns("signals/confidence", indexes=imagined_times,
                      columns=rr.Scalars.columns(scalars=result.confidence[seen]))
+    if np.isfinite(result.surprise).any():  # a checkpoint with a forward model (docs/model.md, Surprise)
+        felt = seen & np.isfinite(result.surprise)
+        felt_times = [rr.TimeColumn("sim_time", duration=result.times[felt])]
+        rec.send_columns("signals/surprise", indexes=felt_times, columns=rr.Scalars.columns(scalars=result.surprise[felt]))
+        rec.send_columns("signals/alarm", indexes=imagined_times,
+                         columns=rr.Scalars.columns(scalars=result.alarm[seen].astype(np.float64)))
     rec.send_columns("signals/blind", indexes=times, columns=rr.Scalars.columns(
         scalars=result.blind.astype(np.float64)))

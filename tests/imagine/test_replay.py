@@ -29,14 +29,15 @@ def test_rrd_verifies_and_holds_the_replay_entities(outputs):
     assert subprocess.run([RERUN, "rrd", "verify", str(folder / "r.rrd")], capture_output=True).returncode == 0
     entities = set(rr.chunk.RrdReader(str(folder / "r.rrd")).store().schema().entity_paths())
     expected = {"/camera/image", "/camera/nodes", "/imagined/image", "/difference/image", "/fused/image",
-                "/signals/excitation", "/signals/iou", "/signals/confidence", "/signals/stretch/0", "/signals/stretch/3"}
+                "/signals/excitation", "/signals/iou", "/signals/confidence", "/signals/stretch/0", "/signals/stretch/3",
+                "/signals/surprise", "/signals/alarm"}
     assert expected <= entities, entities
     assert not (folder / "r.rrd.part").exists()
 
 
-def test_imagination_mcap_decodes_with_a_plain_mcap_reader(outputs, recordings):
+def test_imagination_mcap_decodes_with_a_plain_mcap_reader(outputs, recordings, tiny_checkpoint):
     folder, _ = outputs
-    images, ious, trust = [], [], []
+    images, ious, trust, surprise, alarm = [], [], [], [], []
     with open(folder / "i.mcap", "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         meta = {m.name: m.metadata for m in reader.iter_metadata()}
@@ -49,8 +50,18 @@ def test_imagination_mcap_decodes_with_a_plain_mcap_reader(outputs, recordings):
         for schema, _, message in reader.iter_messages(topics=["/imagination/confidence"]):
             assert json.loads(schema.data)["properties"]["confidence"]
             trust.append((message.log_time, json.loads(message.data)["confidence"]))
+        for schema, _, message in reader.iter_messages(topics=["/imagination/surprise"]):
+            assert json.loads(schema.data)["properties"]["surprise"]
+            surprise.append((message.log_time, json.loads(message.data)["surprise"]))
+        for schema, _, message in reader.iter_messages(topics=["/imagination/alarm"]):
+            assert json.loads(schema.data)["properties"]["alarm"]["type"] == "boolean"
+            alarm.append((message.log_time, json.loads(message.data)["alarm"]))
     # 4 s at 100 Hz, history 6: frames 6..399, at the source frames' times
     assert images == [round(k * 0.01 * 1e9) for k in range(6, 400)] == [t for t, _ in ious] == [t for t, _ in trust]
+    assert [t for t, _ in surprise] == [t for t, _ in alarm] == images
+    replayed = compute_replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", nodes=False)
+    np.testing.assert_allclose([v for _, v in surprise], replayed.surprise[6:400], rtol=1e-6)
+    assert [v for _, v in alarm] == list(replayed.alarm[6:400]) and all(v >= 0 for _, v in surprise)
     assert all(0 <= v <= 1 for _, v in ious) and all(0 < v <= 1 for _, v in trust)
     info = meta["softarm.imagination"]
     assert info["source_recording"].endswith("s1.mcap") and info["checkpoint"].endswith("tiny.pt")

@@ -74,10 +74,10 @@ def test_a_level_simulated_again_gives_the_same_files_and_a_written_suite_is_ref
 
 @pytest.fixture(scope="module")
 def small_suite(suite_folder, tmp_path_factory):
-    """Two families, one recording per level, as a suite folder of its own (evaluation in seconds)."""
+    """Three families, one recording per level, as a suite folder of its own (evaluation in seconds)."""
     folder = tmp_path_factory.mktemp("small")
     manifest = json.loads((suite_folder / "suite.json").read_text())
-    manifest["families"] = {name: manifest["families"][name] for name in ("paper_amplitude", "sensor_noise")}
+    manifest["families"] = {name: manifest["families"][name] for name in ("paper_amplitude", "sensor_noise", "push")}
     for family in manifest["families"].values():
         for level in family["levels"].values():
             level["recordings"] = level["recordings"][:1]
@@ -88,11 +88,11 @@ def small_suite(suite_folder, tmp_path_factory):
 
 def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, tiny_checkpoint, tmp_path):
     result = softarm("evaluate", str(tiny_checkpoint.checkpoint), str(small_suite), "--json", "e.json", "--png", "e.png",
-                     cwd=tmp_path, timeout=300)
+                     "--trust-png", "t.png", cwd=tmp_path, timeout=300)
     assert result.returncode == 0, result.stderr
     assert "paper_amplitude" in result.stdout and "sensor_noise" in result.stdout
     document = json.loads((tmp_path / "e.json").read_text())
-    assert document["suite"] == SUITE_VERSION and set(document["families"]) == {"paper_amplitude", "sensor_noise"}
+    assert document["suite"] == SUITE_VERSION and set(document["families"]) == {"paper_amplitude", "sensor_noise", "push"}
     for row in document["families"].values():
         assert row["frames"] in (2 * 1994, 3 * 1994)  # per level, every frame after the first 6-sample window
         assert set(row["baselines"]) == {"mean_frame", "ridge", "ae_ceiling", "ridge_nodes"}
@@ -101,10 +101,18 @@ def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, 
         for scores in (row, *row["baselines"].values()):
             assert 0 <= scores["iou"] <= 1 and scores["bce"] > 0 and scores["tip_error_mm"] >= 0
         assert 0 <= row["tip_error_median_mm"] <= 3 * row["tip_error_mm"]
-    trust = document["confidence"]
+    report = document["confidence"]
+    assert report["default"] == "error_head" and list(report["methods"]) == ["error_head", "calibrated"]  # no ensemble
+    trust = report["methods"]["error_head"]
     assert trust["frames"] == sum(row["frames"] for row in document["families"].values())
     assert -1 <= trust["spearman"] <= 1 and 0 <= trust["least_trusted_iou"] <= 1 and "least trusted" in result.stdout
-    assert (tmp_path / "e.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(trust["sparsification"]) == len(trust["oracle"]) == 100 and trust["ause"] >= 0
+    assert set(trust["reference"]) == {"spearman", "auroc", "ause", "least_trusted_iou", "rest_iou"}
+    felt = document["surprise"]["families"]
+    assert list(felt) == ["push"] and 0 <= felt["push"]["auroc"] <= 1 and felt["push"]["disturbances"] >= 6
+    assert 0 <= felt["push"]["detected_suite"] <= 1 and "surprise" in result.stdout
+    for png in ("e.png", "t.png"):
+        assert (tmp_path / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_sensor_noise_reaches_the_stretch_answers_and_nothing_else(small_suite, tiny_checkpoint):

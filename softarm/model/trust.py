@@ -1,0 +1,119 @@
+"""How far to trust an imagined frame: each way of measuring it is one class, named in `registry.TRUST`.
+
+`train.confidence` picks the checkpoint's; `softarm evaluate` scores every way a checkpoint can answer, so they
+are compared on the same frames. Every confidence is in (0, 1], higher is surer. Each way also says what a
+perfectly calibrated predictor with its own predicted spread would see (`reference_iou`): the yardstick of
+its scores (`softarm.suite.trust`).
+"""
+
+from typing import Any, Callable, ClassVar, Optional
+
+import numpy as np
+
+from softarm.model.metrics import iou_per_frame
+from softarm.model.prediction import Prediction
+
+Decode = Callable[[np.ndarray], np.ndarray]  # normalised latents (M, K) -> pixel probabilities (M, H, W)
+
+
+class Trust:
+    name: ClassVar[str]
+
+    @classmethod
+    def build(cls, calibration: Optional[dict[str, Any]]) -> Optional["Trust"]:
+        """This way for a checkpoint with `calibration` (its `calibration` state, None if it has none); None
+        where the checkpoint cannot answer it."""
+        return cls()
+
+    def available(self, prediction: Prediction) -> bool:
+        return True
+
+    def confidence(self, prediction: Prediction) -> np.ndarray:
+        """(M,) in (0, 1]."""
+        raise NotImplementedError
+
+    def variance(self, prediction: Prediction) -> np.ndarray:
+        """(M, K) the spread of the normalised latent this way predicts."""
+        raise NotImplementedError
+
+    def reference_iou(self, prediction: Prediction, decode: Decode, rng: np.random.Generator) -> np.ndarray:
+        """(M,) the IoU a calibrated predictor with this spread would score: the truth drawn as the answer plus an
+        error from the predicted variance, both drawn through the decoder."""
+        truth = prediction.latents + rng.standard_normal(prediction.latents.shape) * np.sqrt(self.variance(prediction))
+        return iou_per_frame(decode(prediction.latents), decode(truth) >= 0.5)
+
+
+class ErrorHeadTrust(Trust):
+    """The error head: a network on the recurrent state that learned the model's own squared errors."""
+    name = "error_head"
+
+    def confidence(self, prediction: Prediction) -> np.ndarray:
+        return prediction.confidence
+
+    def variance(self, prediction: Prediction) -> np.ndarray:
+        return np.exp(prediction.log_error)
+
+
+class EnsembleTrust(Trust):
+    """A deep ensemble's disagreement: the variance of its members' latents, 1 / (1 + its mean)."""
+    name = "ensemble"
+
+    def available(self, prediction: Prediction) -> bool:
+        return prediction.spread is not None
+
+    def confidence(self, prediction: Prediction) -> np.ndarray:
+        return 1.0 / (1.0 + self.variance(prediction).mean(axis=1))
+
+    def variance(self, prediction: Prediction) -> np.ndarray:
+        if prediction.spread is None:
+            raise ValueError("ensemble confidence needs a checkpoint with ensemble members (train.ensemble > 1)")
+        return prediction.spread
+
+
+class CalibratedTrust(Trust):
+    """The frame's IoU predicted from what the model knows without a camera: the error head's predicted error,
+    the surprise, and the members' disagreement where there is an ensemble; a linear map of their logarithms
+    to log(1 - IoU + MARGIN), fitted on held-out frames when the checkpoint was trained (`calibration`)."""
+    name = "calibrated"
+    MARGIN = 0.01
+
+    def __init__(self, weights: np.ndarray, spread: float):
+        self.weights = weights  # (features + 1,): the map, constant last
+        self.spread = spread    # the residual's standard deviation on the frames it was fitted on
+
+    @classmethod
+    def build(cls, calibration: Optional[dict[str, Any]]) -> Optional["Trust"]:
+        if not calibration:
+            return None
+        return cls(np.asarray(calibration["weights"], np.float64), float(calibration["spread"]))
+
+    def available(self, prediction: Prediction) -> bool:
+        return len(self.weights) == len(calibration_features(prediction)) + 1
+
+    def predicted(self, prediction: Prediction) -> np.ndarray:
+        """(M,) the predicted log(1 - IoU + MARGIN)."""
+        return np.column_stack([*calibration_features(prediction), np.ones(len(prediction.latents))]) @ self.weights
+
+    def confidence(self, prediction: Prediction) -> np.ndarray:
+        return as_iou(self.predicted(prediction))
+
+    def reference_iou(self, prediction: Prediction, decode: Decode, rng: np.random.Generator) -> np.ndarray:
+        """The IoU drawn from this way's own predicted distribution: its residual spread around its prediction."""
+        return np.clip(1.0 + self.MARGIN - np.exp(self.predicted(prediction) + self.spread * rng.standard_normal(
+            len(prediction.latents))), 0.0, 1.0)
+
+
+def as_iou(predicted: np.ndarray) -> np.ndarray:
+    """A predicted log(1 - IoU + MARGIN) as a confidence in (0, 1]."""
+    return np.clip(1.0 + CalibratedTrust.MARGIN - np.exp(predicted), 1e-3, 1.0)
+
+
+def calibration_features(prediction: Prediction) -> list[np.ndarray]:
+    """log of the error head's mean predicted squared error, of the surprise (+0.1; 1 where unknown) and of the
+    members' mean variance where there are members."""
+    features = [np.log(np.exp(prediction.log_error).mean(axis=1))]
+    surprise = prediction.surprise if prediction.surprise is not None else np.ones(len(prediction.latents))
+    features.append(np.log(np.nan_to_num(surprise, nan=1.0) + 0.1))
+    if prediction.spread is not None:
+        features.append(np.log(prediction.spread.mean(axis=1) + 1e-12))
+    return features

@@ -1,0 +1,44 @@
+"""The confidence scores against brute-force definitions."""
+
+import numpy as np
+
+from softarm.model.prediction import Prediction
+from softarm.model.trust import ErrorHeadTrust
+from softarm.suite.trust import FRACTIONS, auroc, sparsification, trust_scores
+
+
+def test_auroc_counts_the_pairs_a_positive_wins():
+    rng = np.random.default_rng(0)
+    score = rng.integers(0, 20, 300).astype(float)  # ties too
+    positive = rng.random(300) < 0.3
+    wins = [(1.0 if p > n else 0.5 if p == n else 0.0) for p in score[positive] for n in score[~positive]]
+    assert auroc(score, positive) == np.mean(wins)
+    assert np.isnan(auroc(score, np.zeros(300, bool)))
+
+
+def test_sparsification_drops_the_lowest_scored_first():
+    rng = np.random.default_rng(1)
+    iou, score = rng.random(200), rng.random(200)
+    curve = sparsification(score, iou)
+    for fraction, value in zip(FRACTIONS, curve):
+        dropped = int(round(fraction * 200))
+        assert np.isclose(value, iou[np.argsort(score)][dropped:].mean())
+
+
+def test_a_perfect_ranking_has_no_sparsification_error_and_a_random_one_does():
+    rng = np.random.default_rng(2)
+    iou = rng.random(1000)
+    perfect = trust_scores(iou * 2, iou)
+    assert perfect["ause"] == 0 and perfect["spearman"] == 1 and perfect["auroc"] == 1
+    noisy = trust_scores(rng.random(1000), iou)
+    assert noisy["ause"] > 0.1 and abs(noisy["spearman"]) < 0.1 and 0.4 < noisy["auroc"] < 0.6
+
+
+def test_the_calibrated_reference_sees_what_its_spread_implies():
+    decode = lambda z: np.repeat((np.arange(10) < z[:, :1] * 5 + 5)[:, None, :], 3, axis=1).astype(float)  # noqa: E731
+    def reference(variance: float) -> np.ndarray:
+        prediction = Prediction(np.arange(400), np.full((400, 2), 0.1), np.full((400, 2), np.log(variance)))
+        return ErrorHeadTrust().reference_iou(prediction, decode, np.random.default_rng(0))
+
+    assert (reference(1e-12) == 1).all()
+    assert reference(1.0).mean() < reference(0.01).mean() < 1
