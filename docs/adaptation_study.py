@@ -72,6 +72,7 @@ def main() -> None:
     parser.add_argument("folder", type=Path)
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--json", type=Path)
+    parser.add_argument("--png", type=Path)
     args = parser.parse_args()
     torch.set_num_threads(1)
     args.folder.mkdir(parents=True, exist_ok=True)
@@ -96,6 +97,27 @@ def main() -> None:
         print(name, json.dumps(row, indent=1))
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
+    if args.png:
+        plot(rows, args.png)
+
+
+def plot(rows: dict, path: Path) -> None:
+    """IoU of 20-40 s against the seconds of camera, per change, between the unadapted and the unchanged arm."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.0, 3.8), dpi=120)
+    for colour, (name, row) in zip(("#1f6fb4", "#d0452f"), rows.items()):
+        ax.plot([0, *SECONDS], [row["before"], *row["after"].values()], "o-", color=colour, label=f"{name}: adapted")
+        ax.axhline(row["unchanged"], color=colour, ls="--", lw=1, label=f"{name}: the arm unchanged")
+    ax.set_xlabel("seconds of camera after the change (0: not adapted)")
+    ax.set_ylabel("IoU of 20-40 s, camera off")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
 
 
 if __name__ == "__main__":

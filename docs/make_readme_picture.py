@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from softarm.view.filmstrip import filmstrip, save_png
 from softarm.record.reader import read_recording
+from softarm.view.filmstrip import filmstrip, save_png
 
 recording = read_recording(sys.argv[1], nodes=False)
 picks = np.linspace(0, len(recording.times) - 1, 10).round().astype(int)[1:]

@@ -16,6 +16,7 @@ From a notebook::
     scores = softarm.evaluate("arm.pt", "suite")      # per family, beside the baselines
     done = softarm.run_study("sensors", "studies/sensors")  # a comparative study, trials as Ray tasks
     stream = softarm.StreamingImaginer.from_checkpoint("arm.pt")  # one sample in, one imagined frame out
+    adapted = softarm.adapt("arm.pt", "loaded.mcap", seconds=5, out="loaded.pt")  # a changed body, 5 s of camera
     settings = softarm.ImportSettings("/camera/image_raw/compressed", "/arm/stretch:data", roi=(190, 30, 260, 420))
     report = softarm.import_log("lab.mcap", "lab_arm.mcap", settings)  # a robot's ROS 2 log as a recording
 

@@ -157,7 +157,7 @@ class TrainConfig:
     precision: str = "auto"
     node_target: float = 0.0
     ensemble: int = 1
-    confidence: str = "error_head"
+    confidence: str = "calibrated"
     false_alarms_per_minute: float = 1.0
 
     @property

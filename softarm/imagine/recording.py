@@ -33,8 +33,9 @@ IOU_SCHEMA = ("softarm.ImaginationIoU", json_schema(
     {"iou": {"type": "number", "minimum": 0, "maximum": 1}, "blind": {"type": "boolean",
                                                                        "description": "camera blacked out"}}))
 CONFIDENCE_SCHEMA = ("softarm.ImaginationConfidence", json_schema(
-    "softarm.ImaginationConfidence", "How far the model trusts its imagined frame: 1 / (1 + its own estimate of the "
-    "mean squared error of the normalised latent); 0.5 means as far off as the mean frame's code",
+    "softarm.ImaginationConfidence", "How far the model trusts its imagined frame, in (0, 1], as the checkpoint's "
+    "train.confidence measures it (calibrated: the IoU it expects; error_head: 1 / (1 + its own estimate of the mean "
+    "squared error of the normalised latent); ensemble: 1 / (1 + its members' variance))",
     {"confidence": {"type": "number", "exclusiveMinimum": 0, "maximum": 1}}))
 
 SURPRISE_SCHEMA = ("softarm.ImaginationSurprise", json_schema(

@@ -61,6 +61,8 @@ class StreamingImaginer:
             return None
         target = np.array([self.samples - 1 + imaginer.latent.lead])
         prediction = joined_members([Prediction(target, latent[None], log_error[None]) for latent, log_error in answers])
+        if imaginer.surprise is not None:  # the calibrated confidence reads it, as in a batch replay
+            prediction = prediction.with_surprise(np.array([surprise]))
         return ImaginedFrame(int(target[0]), imaginer.decode(prediction.latents)[0],
                              float(imaginer.confidence(prediction)[0]), surprise,
                              bool(imaginer.surprise is not None and surprise > imaginer.surprise.threshold))

@@ -29,8 +29,8 @@ from softarm.model.registry import latent_model_class
 from softarm.model.scaler import Scaler
 from softarm.model.surprise import SurpriseModel
 
-GROWABLE = ("ensemble", "confidence", "false_alarms_per_minute")  # what --resume takes from the asked settings:
-# a finished model grows its ensemble and sets its confidence and alarm anew without training again
+REFITTED = ("confidence", "false_alarms_per_minute")  # what --resume always takes from the asked settings: they are
+# fitted after training, so a finished model sets them anew; a larger train.ensemble asked grows its ensemble
 
 
 @dataclass
@@ -190,7 +190,6 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
         state.restore(saved, out)
         if state.phase == "done" and len(state.members) + 1 < t.ensemble:
             state.next_member()  # a finished model grows its ensemble
-        del state.members[max(t.ensemble - 1, 0):]
     return state
 
 
@@ -199,8 +198,10 @@ def _saved_config(saved: dict[str, Any], asked: Config) -> Config:
     defaults) that differ from it are named and ignored."""
     config = checkpoint_config(saved)
     now, then, default = asked.to_dict(), config.to_dict(), load_config().to_dict()
-    grown = {f"train.{k}": now["train"][k] for k in GROWABLE if now["train"][k] != default["train"][k]}
-    config = override(config, grown)
+    asked_now = {f"train.{k}": now["train"][k] for k in REFITTED}
+    if now["train"]["ensemble"] > then["train"]["ensemble"]:
+        asked_now["train.ensemble"] = now["train"]["ensemble"]
+    config = override(config, asked_now)
     then = config.to_dict()
     ignored = [f"{section}.{k} = {v}" for section in ("train", "sensing") for k, v in now[section].items()
                if then[section].get(k) != v and default[section].get(k) != v]

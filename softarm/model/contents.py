@@ -56,11 +56,13 @@ def check_contents(state: dict[str, Any], path: Path) -> None:
 def _surprise(value: Any) -> bool:
     """The forward model's weights (rows: state, command, constant) to the felt sensors, their spreads and the
     alarm's threshold, all finite."""
+    if not isinstance(value, dict):
+        return False
     try:
         weights, scale = torch.tensor(value["weights"], dtype=torch.float64), torch.tensor(value["scale"], dtype=torch.float64)
         felt, command = list(value["felt"]), list(value["command"])
         threshold = float(value["threshold"])
-    except (KeyError, TypeError, ValueError, RuntimeError, OverflowError):
+    except (KeyError, IndexError, TypeError, ValueError, RuntimeError, OverflowError):
         return False
     return (weights.ndim == 2 and weights.shape[1] == len(scale) == len(felt) > 0 and weights.shape[0] > len(command)
             and bool(torch.isfinite(weights).all() and (scale > 0).all()) and threshold == threshold
@@ -68,9 +70,11 @@ def _surprise(value: Any) -> bool:
 
 
 def _calibration(value: Any) -> bool:
+    if not isinstance(value, dict):
+        return False
     try:
         weights, spread = torch.tensor(value["weights"], dtype=torch.float64), float(value["spread"])
-    except (KeyError, TypeError, ValueError, RuntimeError, OverflowError):
+    except (KeyError, IndexError, TypeError, ValueError, RuntimeError, OverflowError):
         return False
     return weights.ndim == 1 and len(weights) >= 2 and bool(torch.isfinite(weights).all()) and spread >= 0
 

@@ -117,3 +117,17 @@ def test_fused_scores_equal_scoring_the_fused_frames_directly(recordings, tiny_c
     direct = summarise(frame_scores(result.fused.astype(np.float64), result.recording.frames, 400.0))
     for key, value in result.metrics["fused"].items():
         assert value == pytest.approx(direct[key], rel=1e-6, abs=1e-9), key
+
+
+def test_png_span_picks_the_filmstrip_frames_and_shows_the_alarm(recordings, tiny_checkpoint, tmp_path):
+    from PIL import Image
+
+    result = softarm("replay", str(tiny_checkpoint.checkpoint), str(recordings / "s1.mcap"), "--png", "s.png",
+                     "--png-span", "1:1.5", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    image = Image.open(tmp_path / "s.png")
+    assert image.height == 2 * 14 + 4 * (84 + 4) * 3  # two header lines; camera, imagined, difference, alarm
+    empty = softarm("replay", str(tiny_checkpoint.checkpoint), str(recordings / "s1.mcap"), "--png", "e.png",
+                    "--mcap", "e.mcap", "--png-span", "50:60", cwd=tmp_path)
+    assert_one_line_error(empty, "--png-span")
+    assert not (tmp_path / "e.png").exists() and not (tmp_path / "e.mcap").exists()

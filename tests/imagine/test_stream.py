@@ -23,7 +23,7 @@ def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
     targets = prediction.targets
     assert min(streamed) == targets[0] and max(streamed) == len(stretch)  # one frame past the last sample
     np.testing.assert_allclose(np.stack([streamed[k].probabilities for k in targets]), batch, atol=1e-5)
-    np.testing.assert_allclose([streamed[k].confidence for k in targets], prediction.confidence, rtol=1e-5)
+    np.testing.assert_allclose([streamed[k].confidence for k in targets], imaginer.confidence(prediction), rtol=1e-5)
     assert prediction.surprise is not None and np.isfinite(prediction.surprise[1:]).all()  # the window model: from its 2nd
     np.testing.assert_allclose([streamed[k].surprise for k in targets], prediction.surprise, rtol=1e-4, atol=1e-6)
     assert [streamed[k].alarm for k in targets] == list(prediction.surprise > imaginer.surprise.threshold)

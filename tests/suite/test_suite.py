@@ -102,7 +102,7 @@ def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, 
             assert 0 <= scores["iou"] <= 1 and scores["bce"] > 0 and scores["tip_error_mm"] >= 0
         assert 0 <= row["tip_error_median_mm"] <= 3 * row["tip_error_mm"]
     report = document["confidence"]
-    assert report["default"] == "error_head" and list(report["methods"]) == ["error_head", "calibrated"]  # no ensemble
+    assert report["default"] == "calibrated" and list(report["methods"]) == ["error_head", "calibrated"]  # no ensemble
     trust = report["methods"]["error_head"]
     assert trust["frames"] == sum(row["frames"] for row in document["families"].values())
     assert -1 <= trust["spearman"] <= 1 and 0 <= trust["least_trusted_iou"] <= 1 and "least trusted" in result.stdout
