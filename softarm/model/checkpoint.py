@@ -49,7 +49,7 @@ def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:
     try:
         checkpoint_config(state)
     except SoftarmError as e:
-        raise CheckpointError(f"{path} holds a config this softarm cannot read ({e})") from None
+        raise CheckpointError(f"{path} holds a config this softarm cannot read ({' '.join(str(e).split())})") from None
     return state
 
 
