@@ -39,14 +39,13 @@ def adapt_heads(imaginer: Imaginer, window: Window, shrink: float = SHRINK) -> I
     lead = imaginer.latent.lead
     frames = np.arange(max(window.start, imaginer.latent.first_frame), window.end)
     codes = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, window.frames[frames]))
-    models = []
-    for model in (imaginer.latent, *imaginer.members):
-        states = model.states(window.inputs[:window.end].astype(np.float32))
-        models.append(with_head(model, *ridge_toward(states[frames - lead], codes, *head_of(model), shrink)))
+    read = window.inputs[:window.end].astype(np.float32)
+    states = [model.states(read) for model in (imaginer.latent, *imaginer.members)]  # the first also feeds the surprise
+    models = [with_head(model, *ridge_toward(s[frames - lead], codes, *head_of(model), shrink))
+              for model, s in zip((imaginer.latent, *imaginer.members), states)]
     surprise = imaginer.surprise
     if surprise is not None:
-        surprise = adapted_surprise(surprise, imaginer.latent.states(window.inputs[:window.end].astype(np.float32)),
-                                    window.inputs[:window.end], window.start, shrink)
+        surprise = adapted_surprise(surprise, states[0], window.inputs[:window.end], window.start, shrink)
     return Imaginer(imaginer.autoencoder, models[0], imaginer.latent_scaler, imaginer.inputs, tuple(models[1:]),
                     surprise, imaginer.trust)
 
