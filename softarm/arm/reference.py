@@ -5,24 +5,27 @@ written out again here from the equations of docs/model.md, not taken from `stat
 implementation shows up as a disagreement with the other. One arm, readable over fast.
 """
 
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
 from softarm.arm.body import Body
 from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive
+from softarm.arm.muscles import Muscles
 
 
 def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velocities: np.ndarray,
                        frame_dt: float, substeps: int, n_frames: int,
-                       disturbances: Sequence[Disturbance] = ()) -> np.ndarray:
+                       disturbances: Sequence[Disturbance] = (), muscles: Optional[Muscles] = None,
+                       commands: Optional[np.ndarray] = None) -> np.ndarray:
     """(n_frames, N, 2) positions at t_k = k * frame_dt, k = 0..n_frames-1; frame 0 is the given state.
 
     Semi-implicit (symplectic) Euler with `substeps` steps per frame: forces at the current state (and the
     disturbances active at the step's run time), then v += h F / m on the free nodes (m with the active
     payloads), then x += h v with the new v; after each step the driven nodes are put at rest + f(t) e with
-    velocity f'(t) e (e: the drive's direction).
+    velocity f'(t) e (e: the drive's direction). With `muscles`, commands[k] (G,) is held from frame k to k + 1;
+    each step first relaxes the activations (from 0) toward it, then shortens the muscles' rest lengths.
     """
     x = np.array(positions, dtype=np.float64)
     v = np.array(velocities, dtype=np.float64)
@@ -30,6 +33,8 @@ def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velociti
     free = np.ones(len(x), bool)
     free[body.driven] = False
     h = frame_dt / substeps
+    activation = np.zeros(muscles.count if muscles is not None else 0)
+    rest_lengths = body.rest_lengths
 
     out = np.empty((n_frames,) + x.shape)
     for k in range(n_frames):
@@ -41,7 +46,10 @@ def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velociti
             active = [d for d in disturbances if d.active(now)]
             mass = body.masses + sum((d.extra_mass(len(x)) for d in active), np.zeros(len(x)))
             stiffness = body.stiffness * np.prod([d.stiffness_factor(len(i)) for d in active] or [np.ones(len(i))], axis=0)
-            force = (_spring_damper_forces(x, v, i, j, body.rest_lengths, stiffness, body.damping)
+            if muscles is not None:
+                activation = muscles.relax(activation, np.asarray(commands[k], np.float64), h)
+                rest_lengths = muscles.rest_lengths(body, activation)
+            force = (_spring_damper_forces(x, v, i, j, rest_lengths, stiffness, body.damping)
                      + mass[:, None] * body.gravity[None, :])
             for d in active:
                 force += d.forces(x, v) * free[:, None]

@@ -13,6 +13,8 @@ from softarm.config.schema import (
     DisturbanceConfig,
     ExcitationConfig,
     IntegrationConfig,
+    MuscleGroupConfig,
+    MusclesConfig,
     RandomDisturbanceConfig,
     RunConfig,
     SensingConfig,
@@ -24,6 +26,6 @@ from softarm.config.schema import (
 )
 
 __all__ = ["DEFAULT_CONFIG_TEXT", "BodyConfig", "CameraConfig", "Config", "DisturbanceConfig", "ExcitationConfig",
-           "IntegrationConfig", "RandomDisturbanceConfig", "RunConfig", "SensingConfig", "SensorsConfig",
-           "SpringsConfig", "SumOfSinesConfig", "TrainConfig", "WorldConfig",
+           "IntegrationConfig", "MuscleGroupConfig", "MusclesConfig", "RandomDisturbanceConfig", "RunConfig",
+           "SensingConfig", "SensorsConfig", "SpringsConfig", "SumOfSinesConfig", "TrainConfig", "WorldConfig",
            "config_from_dict", "load_config", "override"]

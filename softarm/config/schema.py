@@ -132,6 +132,23 @@ class WorldConfig:
 
 
 @dataclass(frozen=True)
+class MuscleGroupConfig:
+    """One [[muscles.groups]] table: springs that contract together (docs/model.md, Muscles), named either by an
+    edge (`side` and `rows`) or as spring indices (`springs`)."""
+    name: str
+    max_contraction: float
+    side: Union[str, None] = None
+    rows: Union[tuple[int, int], None] = None
+    springs: Union[tuple[int, ...], None] = None
+
+
+@dataclass(frozen=True)
+class MusclesConfig:
+    time_constant: float
+    groups: tuple[MuscleGroupConfig, ...]
+
+
+@dataclass(frozen=True)
 class TrainConfig:
     train_fraction: float
     test_fraction: float
@@ -179,6 +196,7 @@ class Config:
     integration: IntegrationConfig
     run: RunConfig
     world: WorldConfig
+    muscles: MusclesConfig
     train: TrainConfig
 
     @property

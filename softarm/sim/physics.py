@@ -14,84 +14,16 @@ from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.body import Body
 from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import KIND_CODES, Drive
+from softarm.arm.muscles import Muscles
 from softarm.config import Config
 from softarm.errors import SimulationError
-from softarm.sim.drive_kernels import product_of_sines, sum_of_sines
+from softarm.sim.forces import accumulate_forces, first_far_node, substep
+from softarm.sim.muscle_fields import MuscleFields, relax
 from softarm.sim.runtime import device_array, host, task_layout, upload
-from softarm.sim.world import WorldFields, active_kinds, contact, node_load, pack, spring_factor
+from softarm.sim.world import WorldFields, pack
 
 f64nd = ti.types.ndarray(dtype=ti.f64, ndim=4)
 i32nd = ti.types.ndarray(dtype=ti.i32, ndim=2)
-
-
-@ti.func
-def accumulate_forces(a: int, t: ti.f64, x: ti.template(), v: ti.template(), force: ti.template(),
-                      inertia: ti.template(), springs: ti.template(), spring_params: ti.template(), mass: ti.template(),
-                      free: ti.template(), gx: ti.f64, gy: ti.f64, world: ti.template(), disturbed: ti.template()):
-    """force[a] = gravity + every spring and damper (docs/model.md, Forces); spring_params[s] = (L0, k, b).
-    With `disturbed` (a compile-time switch), also every disturbance active at run time t: payloads add to
-    inertia[a] and the weight, pushes and contacts to the force, stiffness changes scale k."""
-    g = ti.Vector([gx, gy], ti.f64)
-    bits = 0
-    if ti.static(disturbed):
-        bits = active_kinds(a, t, world.codes, world.windows)
-    for i in range(x.shape[1]):
-        if ti.static(disturbed):
-            load = node_load(a, i, t, bits, world.codes, world.windows, world.params, world.nodes)
-            inertia[a, i] = mass[i] + load[0]
-            force[a, i] = inertia[a, i] * g + ti.Vector([load[1], load[2]], ti.f64)
-            if free[i]:
-                force[a, i] += contact(a, t, x[a, i], v[a, i], bits, world.codes, world.windows, world.params)
-        else:
-            force[a, i] = mass[i] * g
-    for s in range(springs.shape[0]):
-        ends, params = springs[s], spring_params[s]
-        i, j = ends[0], ends[1]
-        d = x[a, j] - x[a, i]
-        length = ti.sqrt(d[0] * d[0] + d[1] * d[1])
-        u = d * (1.0 / length)
-        k = params[1]
-        if ti.static(disturbed):
-            k *= spring_factor(a, s, t, bits, world.codes, world.windows, world.params, world.springs)
-        magnitude = k * (length - params[0]) + params[2] * (v[a, j] - v[a, i]).dot(u)
-        f = magnitude * u
-        force[a, i] = force[a, i] + f
-        force[a, j] = force[a, j] - f
-
-
-@ti.func
-def substep(a: int, t: ti.f64, h: ti.f64, kind: int, x: ti.template(), v: ti.template(), force: ti.template(),
-            inertia: ti.template(), rest: ti.template(), mass: ti.template(), free: ti.template(),
-            amplitude: ti.template(), freqs: ti.template(), amps: ti.template(), phases: ti.template(),
-            direction: ti.template(), disturbed: ti.template()):
-    drive = ti.Vector([0.0, 0.0], ti.f64)
-    if kind == 0:
-        drive = product_of_sines(t, amplitude[a], a, freqs)
-    else:
-        drive = sum_of_sines(t, a, freqs, amps, phases)
-    e = direction[None]
-    for i in range(x.shape[1]):
-        if free[i]:
-            if ti.static(disturbed):
-                v[a, i] = v[a, i] + h * force[a, i] / inertia[a, i]
-            else:
-                v[a, i] = v[a, i] + h * force[a, i] / mass[i]
-            x[a, i] = x[a, i] + h * v[a, i]
-        else:
-            for k in ti.static(range(2)):  # an axis the drive does not move stays exactly at rest (-0.0 too)
-                x[a, i][k] = rest[i][k] + drive[0] * e[k] if e[k] != 0.0 else rest[i][k]
-                v[a, i][k] = drive[1] * e[k] if e[k] != 0.0 else 0.0
-
-
-@ti.func
-def first_far_node(a: int, x: ti.template(), rest: ti.template(), free: ti.template(), limit: ti.f64) -> int:
-    """Index of the first free node further than `limit` from rest (NaN counts as far), or -1."""
-    found = -1
-    for i in range(x.shape[1]):
-        dx, dy = x[a, i][0] - rest[i][0], x[a, i][1] - rest[i][1]
-        if free[i] and found < 0 and not (dx * dx + dy * dy <= limit * limit):
-            found = i
-    return found
 
 
 @ti.data_oriented
@@ -107,7 +39,7 @@ class Simulator:
 
     def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
                  blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100,
-                 disturbances: Sequence[Sequence[Disturbance]] = ()):
+                 disturbances: Sequence[Sequence[Disturbance]] = (), muscles: Optional[Muscles] = None):
         arms, n, springs = len(drives), body.n_nodes, len(body.springs)
         slots = pack(disturbances, arms, n, springs)
         self.disturbed = slots.any  # a batch without any compiles the kernel without their code
@@ -137,6 +69,10 @@ class Simulator:
         self._tree = builder.finalize()
         if self.disturbed:
             self.world = WorldFields(slots)
+        # With muscles (a batch a controller commands), the kernel relaxes their activations and shortens their
+        # springs; without, it is compiled without that code, as the recordings' runs are
+        self.muscles = muscles if muscles is not None and muscles.count else None
+        self.actuators = MuscleFields(self.muscles, arms) if self.muscles is not None else None
         fill = {self.x: np.broadcast_to(positions, (arms, n, 2)), self.v: np.broadcast_to(velocities, (arms, n, 2)),
                 self.rest: body.rest, self.mass: body.masses,
                 self.spring_params: np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1),
@@ -155,23 +91,26 @@ class Simulator:
         self._tasks = task_layout(arms)
 
     @classmethod
-    def from_config(cls, config: Config, batch: Optional[ArmBatch] = None, block_frames: int = 100) -> "Simulator":
-        """The arms of `batch` (default: the config's run) started and stepped exactly as `simulate` does."""
+    def from_config(cls, config: Config, batch: Optional[ArmBatch] = None, block_frames: int = 100,
+                    muscles: Optional[Muscles] = None) -> "Simulator":
+        """The arms of `batch` (default: the config's run) started and stepped exactly as `simulate` does (with
+        `muscles`, also commanded through `command`)."""
         batch = batch if batch is not None else arm_batch(config)
         integration = config.integration
         return cls(batch.body, batch.drives, integration.frame_dt, integration.substeps, integration.blowup_distance,
-                   batch.positions, batch.velocities, block_frames, batch.disturbances)
+                   batch.positions, batch.velocities, block_frames, batch.disturbances, muscles)
 
     @ti.kernel
     def _advance(self, positions: f64nd, status: i32nd, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
                  frame_dt: ti.f64,
                  blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, kind: ti.i32, tasks: ti.i32, spacing: ti.i32,
-                 disturbed: ti.template()):
+                 decay: ti.f64, disturbed: ti.template(), muscled: ti.template()):
         """Record each arm's state as frames first_frame.. into positions[:, :n_frames], stepping between them.
 
         Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
         status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
-        arm stops stepping. Forces are those of the substep's start, at run time (k substeps + s) h.
+        arm stops stepping. Forces are those of the substep's start, at run time (k substeps + s) h, with the
+        muscles' activations relaxed over the substep first (decay = exp(-h / tau)).
         """
         h = frame_dt / substeps
         arms = self.x.shape[0]
@@ -188,9 +127,11 @@ class Simulator:
                             k = first_frame + f
                             for s in range(substeps):
                                 now = ti.cast(k * substeps + s, ti.f64) / substeps * frame_dt
+                                if ti.static(muscled):
+                                    relax(a, decay, self.actuators)
                                 accumulate_forces(a, now, self.x, self.v, self.force, self.inertia, self.springs,
                                                   self.spring_params, self.mass, self.free, gx, gy, self.world,
-                                                  disturbed)
+                                                  disturbed, self.actuators, muscled)
                                 t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + self.time_offset[a]
                                 substep(a, t, h, kind, self.x, self.v, self.force, self.inertia, self.rest, self.mass,
                                         self.free, self.amplitude, self.freqs, self.amps, self.phases, self.direction,
@@ -206,8 +147,11 @@ class Simulator:
         if not 1 <= n_frames <= self.block_frames:
             raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
         gx, gy = self.body.gravity
+        h = self.frame_dt / self.substeps
+        decay = float(np.exp(-h / self.muscles.time_constant)) if self.muscles is not None else 0.0
         self._advance(self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt,
-                      self.blowup_distance, float(gx), float(gy), self.kind, *self._tasks, self.disturbed)
+                      self.blowup_distance, float(gx), float(gy), self.kind, *self._tasks, decay, self.disturbed,
+                      self.muscles is not None)
         self.history = host(self._positions)
         self.frame += n_frames
         self._raise_on_blowup()
@@ -222,11 +166,41 @@ class Simulator:
             n_frames -= block
         return np.concatenate(out, axis=1)
 
+    def command(self, commands: np.ndarray) -> None:
+        """Hold each arm's muscle commands (arms, G), in [0, 1], from the next substep on."""
+        self._require_muscles().command.from_numpy(np.ascontiguousarray(commands, np.float64))
+
+    def activation(self) -> np.ndarray:
+        """(arms, G) activations now."""
+        return self._require_muscles().activation.to_numpy()
+
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        """(arms, N, 2) positions and velocities now (after the last step), float64 copies."""
+        return self.x.to_numpy(), self.v.to_numpy()
+
+    def place(self, arms: np.ndarray, positions: np.ndarray, velocities: np.ndarray,
+              activation: Optional[np.ndarray] = None) -> None:
+        """Put the given arms (indices) at new states, e.g. an environment's reset; the others keep theirs."""
+        x, v = self.state()
+        x[arms], v[arms] = positions, velocities
+        self.x.from_numpy(x)
+        self.v.from_numpy(v)
+        if activation is not None:
+            now = self.activation()
+            now[arms] = activation
+            self.actuators.activation.from_numpy(now)
+
+    def _require_muscles(self) -> MuscleFields:
+        if self.actuators is None:
+            raise ValueError("this simulator has no muscles: build it with a Muscles that has groups")
+        return self.actuators
+
     def close(self) -> None:
         """Free the fields; a process that makes many simulators (a notebook, the tests) should call it."""
         self._tree.destroy()
-        if self.world is not None:
-            self.world.destroy()
+        for owned in (self.world, self.actuators):
+            if owned is not None:
+                owned.destroy()
 
     def _raise_on_blowup(self) -> None:
         status = host(self._status)

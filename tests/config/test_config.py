@@ -34,7 +34,8 @@ def test_every_default_key_is_documented_in_the_default_file():
             if isinstance(value, dict):
                 check(f"{table}.{key}", value)
             else:
-                assert f"\n{key} = " in DEFAULT_CONFIG_TEXT, f"{table}.{key}"
+                written = f"\n{key} = " in DEFAULT_CONFIG_TEXT or f"[[{table}.{key}]]" in DEFAULT_CONFIG_TEXT
+                assert written, f"{table}.{key}"
 
     for section, values in load_config().to_dict().items():
         if isinstance(values, dict):
