@@ -55,16 +55,17 @@ def _dofs(nodes: np.ndarray) -> np.ndarray:
 
 def _stiffness_matrix(body: Body, x: np.ndarray) -> np.ndarray:
     """-dF/dx of the spring forces at positions x (2N x 2N), for Newton's method."""
+    i, j = body.springs[:, 0], body.springs[:, 1]
+    d = x[j] - x[i]
+    length = np.linalg.norm(d, axis=1)
+    u = d / length[:, None]
+    uu = u[:, :, None] * u[:, None, :]
+    blocks = body.stiffness[:, None, None] * (uu + (1 - body.rest_lengths / length)[:, None, None] * (np.eye(2) - uu))
     n = body.n_nodes
-    K = np.zeros((2 * n, 2 * n))
-    for (i, j), k, l0 in zip(body.springs, body.stiffness, body.rest_lengths):
-        d = x[j] - x[i]
-        length = np.linalg.norm(d)
-        u = d / length
-        block = k * (np.outer(u, u) + (1 - l0 / length) * (np.eye(2) - np.outer(u, u)))
-        for a, b_, sign in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
-            K[2 * a:2 * a + 2, 2 * b_:2 * b_ + 2] += sign * block
-    return K
+    K = np.zeros((n, 2, n, 2))
+    for a, b_, sign in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
+        np.add.at(K, (a, slice(None), b_), sign * blocks)
+    return K.reshape(2 * n, 2 * n)
 
 
 def max_stable_substep(body: Body, disturbances: Sequence[Disturbance] = ()) -> float:

@@ -10,6 +10,7 @@ from softarm.config.schema import (
     BodyConfig,
     CameraConfig,
     Config,
+    ControlConfig,
     DisturbanceConfig,
     ExcitationConfig,
     IntegrationConfig,
@@ -25,7 +26,7 @@ from softarm.config.schema import (
     WorldConfig,
 )
 
-__all__ = ["DEFAULT_CONFIG_TEXT", "BodyConfig", "CameraConfig", "Config", "DisturbanceConfig", "ExcitationConfig",
-           "IntegrationConfig", "MuscleGroupConfig", "MusclesConfig", "RandomDisturbanceConfig", "RunConfig",
+__all__ = ["DEFAULT_CONFIG_TEXT", "BodyConfig", "CameraConfig", "Config", "ControlConfig", "DisturbanceConfig",
+           "ExcitationConfig", "IntegrationConfig", "MuscleGroupConfig", "MusclesConfig", "RandomDisturbanceConfig", "RunConfig",
            "SensingConfig", "SensorsConfig", "SpringsConfig", "SumOfSinesConfig", "TrainConfig", "WorldConfig",
            "config_from_dict", "load_config", "override"]

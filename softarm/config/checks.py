@@ -47,7 +47,17 @@ def check_ranges(c: Config) -> None:
     _require(r.arms >= 1, "run.arms", r.arms, "must be >= 1")
     _require(0 <= r.seed <= MAX_SEED - (r.arms - 1), "run.seed", r.seed,
              f"must be in 0..{MAX_SEED - (r.arms - 1)} (seeds are 32-bit; arm i of run.arms = {r.arms} uses run.seed + i)")
+    _check_control(c)
     _check_train(c.train)
+
+
+def _check_control(c: Config) -> None:
+    k = c.control
+    for key in ("episode", "tolerance", "hold", "track_period", "reward_scale"):
+        _require(getattr(k, key) > 0, f"control.{key}", getattr(k, key), "must be > 0")
+    _require(k.hold < k.episode, "control.hold", k.hold, f"must be shorter than control.episode = {k.episode} s")
+    _require(k.shake_amplitude >= 0, "control.shake_amplitude", k.shake_amplitude, "must be >= 0 (m)")
+    _require(k.workspace_samples >= 1, "control.workspace_samples", k.workspace_samples, "must be >= 1")
 
 
 def _check_train(t: TrainConfig) -> None:

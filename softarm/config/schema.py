@@ -149,6 +149,18 @@ class MusclesConfig:
 
 
 @dataclass(frozen=True)
+class ControlConfig:
+    """[control]: the tasks of the control environments (softarm.envs)."""
+    episode: float
+    tolerance: float
+    hold: float
+    track_period: float
+    shake_amplitude: float
+    reward_scale: float
+    workspace_samples: int
+
+
+@dataclass(frozen=True)
 class TrainConfig:
     train_fraction: float
     test_fraction: float
@@ -197,6 +209,7 @@ class Config:
     run: RunConfig
     world: WorldConfig
     muscles: MusclesConfig
+    control: ControlConfig
     train: TrainConfig
 
     @property

@@ -17,6 +17,7 @@ from softarm.arm.drive import KIND_CODES, Drive
 from softarm.arm.muscles import Muscles
 from softarm.config import Config
 from softarm.errors import SimulationError
+from softarm.sim.exchange import read_scalars, read_states, write_scalars
 from softarm.sim.forces import accumulate_forces, first_far_node, substep
 from softarm.sim.muscle_fields import MuscleFields, relax
 from softarm.sim.runtime import device_array, host, task_layout, upload
@@ -34,7 +35,9 @@ class Simulator:
     arithmetic is constant (faster than ndarrays with runtime shapes: README, Benchmarks), at the price of one
     kernel compile per simulator (Taichi's offline cache keeps it for the next run of the same shape).
     `history` holds the last block's positions, (arms, block_frames, N, 2): on the CPU the kernel writes
-    it in place (no copy), on a GPU it is the host copy of a device array.
+    it in place (no copy), on a GPU it is the host copy of a device array. With `muscles` (a batch a controller
+    commands through `command`), the kernel relaxes their activations and shortens their springs; without, it is
+    compiled without that code, as the recordings' runs are.
     """
 
     def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
@@ -69,10 +72,7 @@ class Simulator:
         self._tree = builder.finalize()
         if self.disturbed:
             self.world = WorldFields(slots)
-        # With muscles (a batch a controller commands), the kernel relaxes their activations and shortens their
-        # springs; without, it is compiled without that code, as the recordings' runs are
-        self.muscles = muscles if muscles is not None and muscles.count else None
-        self.actuators = MuscleFields(self.muscles, arms) if self.muscles is not None else None
+        self._attach(muscles, arms, n)
         fill = {self.x: np.broadcast_to(positions, (arms, n, 2)), self.v: np.broadcast_to(velocities, (arms, n, 2)),
                 self.rest: body.rest, self.mass: body.masses,
                 self.spring_params: np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1),
@@ -89,6 +89,13 @@ class Simulator:
         self._status = upload(np.full((arms, 2), -1, np.int32))
         self.history = host(self._positions)
         self._tasks = task_layout(arms)
+
+    def _attach(self, muscles: Optional[Muscles], arms: int, n: int) -> None:
+        """The muscles' fields (only with groups) and the arrays a controller reads the state through."""
+        self.muscles = muscles if muscles is not None and muscles.count else None
+        self.actuators = MuscleFields(self.muscles, arms) if self.muscles is not None else None
+        self._state = [device_array((arms, n, 2), "float64") for _ in range(2)]
+        self._activation = device_array((arms, self.muscles.count), "float64") if self.muscles is not None else None
 
     @classmethod
     def from_config(cls, config: Config, batch: Optional[ArmBatch] = None, block_frames: int = 100,
@@ -168,15 +175,17 @@ class Simulator:
 
     def command(self, commands: np.ndarray) -> None:
         """Hold each arm's muscle commands (arms, G), in [0, 1], from the next substep on."""
-        self._require_muscles().command.from_numpy(np.ascontiguousarray(commands, np.float64))
+        write_scalars(self._require_muscles().command, upload(np.asarray(commands, np.float64)))
 
     def activation(self) -> np.ndarray:
         """(arms, G) activations now."""
-        return self._require_muscles().activation.to_numpy()
+        read_scalars(self._require_muscles().activation, self._activation)
+        return host(self._activation).copy()
 
     def state(self) -> tuple[np.ndarray, np.ndarray]:
         """(arms, N, 2) positions and velocities now (after the last step), float64 copies."""
-        return self.x.to_numpy(), self.v.to_numpy()
+        read_states(self.x, self.v, *self._state)
+        return host(self._state[0]).copy(), host(self._state[1]).copy()
 
     def place(self, arms: np.ndarray, positions: np.ndarray, velocities: np.ndarray,
               activation: Optional[np.ndarray] = None) -> None:

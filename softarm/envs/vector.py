@@ -1,0 +1,77 @@
+"""Many arms as one native Gymnasium `VectorEnv`, stepped in one kernel launch (README, Control):
+`gymnasium.make_vec("softarm/Reach-v0", num_envs=256)`.
+
+Autoreset is Gymnasium's default, NEXT_STEP: an arm whose episode ended is reset by the next `step`, which
+returns its first observation with reward 0 and ignores its action. `reset(options={"reset_mask": mask})` resets
+only the arms in the mask.
+"""
+
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from softarm.envs.common import ConfigLike, action_space, commands, observation_space, observations, observe, start
+from softarm.envs.observations import DEFAULT
+from softarm.envs.render import colour_view
+
+
+class SoftArmVectorEnv(VectorEnv):
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 100, "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(self, num_envs: int = 1, task: str = "reach", config: ConfigLike = None,
+                 observe: Sequence[str] = DEFAULT, render_mode: Optional[str] = None, arch: str = "cpu"):
+        if num_envs < 1:
+            raise ValueError(f"num_envs = {num_envs}: a vector env needs at least one arm")
+        self.num_envs = num_envs
+        self.arms = start(config, task, num_envs, arch)
+        self.observed = observations(observe)
+        self.single_observation_space = observation_space(self.arms, self.observed)
+        self.single_action_space = action_space(self.arms)
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self.render_mode = render_mode
+        self.metadata = {**self.metadata, "render_fps": round(1 / self.arms.dt)}
+        self._ended = np.zeros(num_envs, bool)
+        self._closed = False
+
+    def reset(self, *, seed: Union[int, Sequence[Optional[int]], None] = None,
+              options: Optional[dict[str, Any]] = None):
+        everyone = np.arange(self.num_envs)
+        if seed is not None:
+            seeds = [seed + a for a in range(self.num_envs)] if isinstance(seed, int) else list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"{len(seeds)} seeds for {self.num_envs} arms")
+            for a, s in zip(everyone, seeds):
+                self.arms.rngs[a] = seeding.np_random(s)[0]
+        mask = (options or {}).get("reset_mask")
+        arms = everyone if mask is None else np.flatnonzero(np.asarray(mask, bool))
+        self.arms.reset(arms)
+        self._ended[arms] = False
+        return observe(self.arms, self.observed), self._info()
+
+    def step(self, actions):
+        u = commands(actions, self.arms, self.action_space.shape)
+        ended = np.flatnonzero(self._ended)
+        reward, terminated, truncated = self.arms.step(u, np.flatnonzero(~self._ended))
+        self.arms.reset(ended)
+        reward[ended], terminated[ended], truncated[ended] = 0.0, False, False
+        self._ended = terminated | truncated
+        return observe(self.arms, self.observed), reward, terminated, truncated, self._info()
+
+    def render(self) -> Optional[tuple[np.ndarray, ...]]:
+        if self.render_mode != "rgb_array":
+            return None
+        return tuple(colour_view(self.arms, a) for a in range(self.num_envs))
+
+    def close_extras(self, **kwargs: Any) -> None:
+        if not self._closed:
+            self.arms.close()
+            self._closed = True
+
+    def _info(self) -> dict[str, np.ndarray]:
+        a, every = self.arms, np.ones(self.num_envs, bool)
+        return {"distance": a.distance.copy(), "_distance": every,
+                "success": a.task.succeeded(a.held), "_success": every}

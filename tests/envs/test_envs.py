@@ -1,0 +1,108 @@
+"""The control environments against Gymnasium's own checker, and the native vector env against the single env
+stepped alike (spaces, shapes, seeding, the declared autoreset)."""
+
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+from gymnasium.vector import AutoresetMode
+
+import softarm.envs
+from softarm.config import load_config
+from softarm.envs.single import SoftArmEnv
+from softarm.envs.vector import SoftArmVectorEnv
+
+QUICK = {"control.episode": 0.2, "control.hold": 0.05, "control.workspace_samples": 16}  # 20 steps an episode
+SHORT = load_config(overrides=QUICK)
+
+
+@pytest.mark.parametrize("task", sorted(softarm.envs.IDS))
+def test_every_task_passes_gymnasiums_env_checker(task):
+    env = gymnasium.make(softarm.envs.IDS[task], config=SHORT, observe=["stretch", "activation", "target", "nodes",
+                                                                        "pixels"], render_mode="rgb_array")
+    check_env(env.unwrapped, skip_render_check=False)
+    env.reset(seed=1)
+    image = env.render()
+    assert image.shape == (4 * 84, 4 * 52, 3) and image.dtype == np.uint8 and len(np.unique(image.reshape(-1, 3), axis=0)) > 3
+    env.close()
+
+
+def test_make_vec_builds_the_native_vector_env_with_batched_spaces():
+    envs = gymnasium.make_vec("softarm/Reach-v0", num_envs=3, config=SHORT)
+    assert isinstance(envs, SoftArmVectorEnv)
+    assert envs.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
+    assert envs.action_space.shape == (3, 4) and envs.single_action_space.shape == (4,)
+    obs, info = envs.reset(seed=0)
+    assert obs in envs.observation_space and obs["stretch"].shape == (3, 4) and obs["stretch"].dtype == np.float32
+    obs, reward, terminated, truncated, info = envs.step(envs.action_space.sample())
+    assert reward.shape == terminated.shape == truncated.shape == (3,) and obs in envs.observation_space
+    assert info["distance"].shape == (3,) and info["_distance"].all()
+    envs.close()
+
+
+def test_each_arm_of_the_vector_env_runs_as_a_single_env_of_its_seed_through_autoresets():
+    n, steps = 3, 45  # over two 20-step episodes: truncation, then NEXT_STEP's reset step, then a new episode
+    config = load_config(overrides={**QUICK, "sensing.noise": 1e-4})
+    envs = SoftArmVectorEnv(n, "track", config)
+    singles = [SoftArmEnv("track", config) for _ in range(n)]
+    actions = np.random.default_rng(0).uniform(-0.2, 1.2, (steps, n, 4))  # some clipped
+    got = [envs.reset(seed=10)[0]]
+    expected = [[env.reset(seed=10 + a)[0] for a, env in enumerate(singles)]]
+    resets, done = 0, [False] * n
+    for t in range(steps):
+        obs, reward, terminated, truncated, _ = envs.step(actions[t])
+        got.append(obs)
+        row = []
+        for a, env in enumerate(singles):
+            if done[a]:
+                row.append(env.reset()[0])  # what NEXT_STEP promises: this step resets the arm, reward 0
+                assert reward[a] == 0.0 and not terminated[a] and not truncated[a]
+                done[a] = False
+                resets += 1
+                continue
+            o, r, te, tr, _ = env.step(actions[t, a])
+            done[a] = te or tr
+            assert r == pytest.approx(reward[a], abs=1e-9) and (te, tr) == (terminated[a], truncated[a])
+            row.append(o)
+        expected.append(row)
+    assert resets == 2 * n
+    for t, (batch, row) in enumerate(zip(got, expected)):
+        for key in batch:
+            np.testing.assert_allclose(batch[key], np.stack([o[key] for o in row]), atol=1e-5, err_msg=f"{key} {t}")
+    envs.close()
+    for env in singles:
+        env.close()
+
+
+def test_reset_with_the_same_seed_repeats_the_targets_and_readings():
+    envs = SoftArmVectorEnv(4, "reach", load_config(overrides={**QUICK, "sensing.noise": 1e-4}))
+    first = envs.reset(seed=3)[0]
+    envs.step(np.full((4, 4), 0.5))
+    again = envs.reset(seed=3)[0]
+    assert len(np.unique(first["target"], axis=0)) > 1  # the arms draw their own targets
+    for key in first:
+        np.testing.assert_array_equal(first[key], again[key])
+    envs.close()
+
+
+@pytest.mark.parametrize("action, message", [(np.full(3, 0.5), "shape"), (np.array([0.5, np.nan, 0, 0]), "NaN"),
+                                             (np.array([0.5, np.inf, 0, 0]), "NaN or infinite")])
+def test_a_bad_action_is_refused_in_words(action, message):
+    env = SoftArmEnv("reach", SHORT)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=message):
+        env.step(action)
+    env.close()
+
+
+def test_out_of_range_commands_are_clipped_to_the_unit_interval():
+    clipped, plain = SoftArmEnv("reach", SHORT), SoftArmEnv("reach", SHORT)
+    for env in (clipped, plain):
+        env.reset(seed=0)
+    for _ in range(5):
+        a = clipped.step(np.array([3.0, -2.0, 1.0, 0.0]))[0]
+        b = plain.step(np.array([1.0, 0.0, 1.0, 0.0]))[0]
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key])
+    clipped.close()
+    plain.close()
