@@ -6,6 +6,7 @@ from typing import Annotated, Optional
 
 import typer
 from softarm_cli.console import out
+from softarm_cli.control import babble
 from softarm_cli.demo import demo
 from softarm_cli.imagination import evaluate, replay
 from softarm_cli.real import import_log, robot_log
@@ -44,7 +45,7 @@ def config() -> None:
     out.print(DEFAULT_CONFIG_TEXT, markup=False, end="")
 
 
-for command in (sim, train, adapt, replay, corpus, suite, evaluate, demo, study):
+for command in (sim, train, adapt, replay, corpus, suite, evaluate, demo, study, babble):
     app.command()(command)
 app.command("import")(import_log)
 app.command("robot-log")(robot_log)

@@ -58,6 +58,10 @@ def _check_control(c: Config) -> None:
     _require(k.hold < k.episode, "control.hold", k.hold, f"must be shorter than control.episode = {k.episode} s")
     _require(k.shake_amplitude >= 0, "control.shake_amplitude", k.shake_amplitude, "must be >= 0 (m)")
     _require(k.workspace_samples >= 1, "control.workspace_samples", k.workspace_samples, "must be >= 1")
+    _require(0 <= k.push_force[0] <= k.push_force[1], "control.push_force", list(k.push_force),
+             "must be [min, max] with 0 <= min <= max (N per node; [0, 0]: no push)")
+    _require(0 < k.push_duration[0] <= k.push_duration[1], "control.push_duration", list(k.push_duration),
+             "must be [min, max] with 0 < min <= max (s)")
 
 
 def _check_train(t: TrainConfig) -> None:

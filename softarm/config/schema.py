@@ -158,6 +158,8 @@ class ControlConfig:
     shake_amplitude: float
     reward_scale: float
     workspace_samples: int
+    push_force: tuple[float, float]
+    push_duration: tuple[float, float]
 
 
 @dataclass(frozen=True)

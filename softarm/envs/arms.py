@@ -16,6 +16,7 @@ from softarm.arm.muscles import build_muscles
 from softarm.arm.sensors import stretch
 from softarm.arm.statics import hanging_equilibrium
 from softarm.config import Config
+from softarm.envs.pushes import place_pushes, placeholders
 from softarm.envs.sensing import StepSensing
 from softarm.envs.tasks import TASKS
 from softarm.envs.workspace import reachable, tip_nodes
@@ -35,7 +36,8 @@ class Arms:
             raise ConfigError("the control environments need muscles: the config's [[muscles.groups]] is empty")
         self.hanging = hanging_equilibrium(self.body)
         self.tip = tip_nodes(self.body, config.body.columns)
-        self.task = TASKS[task](config.control, reachable(config), self.hanging[self.tip].mean(axis=0), arms, self.dt)
+        self.task = TASKS[task](config.control, reachable(config), self.hanging[self.tip].mean(axis=0), arms, self.dt,
+                                config.body.rows)
         self.pairs = np.array(config.sensing.pairs or self.body.sensors, int).reshape(-1, 2)
         self.sensing = StepSensing(SensorModel.from_config(config.sensing), arms, len(self.pairs), self.dt)
         excitation = dataclasses.replace(config.excitation, kind="product_of_sines", time_offset=0.0,
@@ -44,10 +46,11 @@ class Arms:
         i = config.integration
         self.sim = Simulator(self.body, self.drives, self.dt, i.substeps, i.blowup_distance,
                              np.repeat(self.hanging[None], arms, 0), np.zeros((arms,) + self.hanging.shape), 1,
-                             muscles=self.muscles)
+                             placeholders(arms, config.body.columns) if self.task.pushed else (), self.muscles)
         self.episode_steps = max(1, round(config.control.episode / self.dt))
         self.rngs = [np.random.default_rng() for _ in range(arms)]
         self.commands = np.zeros((arms, self.muscles.count))
+        self.t0 = np.zeros(arms)  # the shaking's phase at each arm's episode start, s
         self.steps, self.held = np.zeros(arms, np.int64), np.zeros(arms, np.int64)
         self.x, self.v = self.sim.state()
         self.activation = np.zeros_like(self.commands)
@@ -75,7 +78,7 @@ class Arms:
         v = np.empty_like(x)
         for k, a in enumerate(arms):  # the shaking starts each episode at a phase t0 of its own: t = t0 + time in it
             t0 = self.rngs[a].uniform(0.0, self.config.excitation.offset_range) if self.task.shaken else 0.0
-            offsets[a] = t0 - now
+            offsets[a], self.t0[a] = t0 - now, t0
             x[k] = self.hanging + self.drives[a].along(float(self.drives[a].displacement(t0)))
             v[k] = self.drives[a].along(float(self.drives[a].velocity(t0)))
         self.sim.time_offset.from_numpy(offsets)
@@ -83,6 +86,8 @@ class Arms:
         self.sim.command(self.commands)
         self.sim.place(arms, x, v, np.zeros((len(arms), self.muscles.count)))
         self.task.start(arms, self.rngs)
+        if self.task.pushed:
+            place_pushes(self.sim, self.task, arms, now, self.config.body.columns)
         self.sensing.start(arms, self.rngs)
         self.steps[arms], self.held[arms] = 0, 0
         self._read(arms)
@@ -98,10 +103,14 @@ class Arms:
         control = self.config.control
         on = self.distance < control.tolerance
         self.held[arms] = np.where(on[arms], self.held[arms] + 1, 0)
-        reward = -self.distance / control.reward_scale + on
+        reward = -self.distance / control.reward_scale - ~on  # never above 0: ending early (Reach's success) pays
         terminated = self.task.succeeded(self.held)
         truncated = (self.steps >= self.episode_steps) & ~terminated
         return reward, terminated, truncated
+
+    def displacement(self, arm: int) -> float:
+        """The top's displacement along the drive now (m): the shaking of Hold, 0 for a top held still."""
+        return float(self.drives[arm].displacement(self.t0[arm] + self.steps[arm] * self.dt))
 
     def frames(self) -> np.ndarray:
         """(arms, H, W) uint8 camera frames of the arms now (docs/model.md, Camera)."""

@@ -1,8 +1,8 @@
 """The control tasks: where each arm's target is, and when its episode ends (README, Control; [control]).
 
 A task keeps the episode parameters of every arm of a batch; `start` draws them for the arms that begin an
-episode, from each arm's own generator. The reward is shared: -distance / reward_scale each step, plus 1 while
-the tip is within `tolerance` of the target.
+episode, from each arm's own generator. The reward is shared: -distance / reward_scale each step, and -1 more
+while the tip is further than `tolerance` from the target (never above 0, so that Reach's early success pays).
 """
 
 import math
@@ -16,9 +16,11 @@ class Task:
     """The base: a target per arm (arms, 2), m, and no end before the episode's time is up."""
     name = ""
     shaken = False  # the top is shaken (the [excitation] drive at control.shake_amplitude) rather than held still
+    pushed = False  # the arm is pushed once an episode (softarm.envs.pushes)
 
-    def __init__(self, control: ControlConfig, places: np.ndarray, resting_tip: np.ndarray, arms: int, frame_dt: float):
-        self.control, self.places, self.resting_tip = control, places, resting_tip
+    def __init__(self, control: ControlConfig, places: np.ndarray, resting_tip: np.ndarray, arms: int, frame_dt: float,
+                 rows: int):
+        self.control, self.places, self.resting_tip, self.rows = control, places, resting_tip, rows
         self.goal = np.repeat(resting_tip[None], arms, axis=0)
 
     def start(self, arms: np.ndarray, rngs: list) -> None:
@@ -37,8 +39,9 @@ class Reach(Task):
     """Bring the tip to a reachable place drawn at random and hold it there for control.hold seconds."""
     name = "reach"
 
-    def __init__(self, control: ControlConfig, places: np.ndarray, resting_tip: np.ndarray, arms: int, frame_dt: float):
-        super().__init__(control, places, resting_tip, arms, frame_dt)
+    def __init__(self, control: ControlConfig, places: np.ndarray, resting_tip: np.ndarray, arms: int, frame_dt: float,
+                 rows: int):
+        super().__init__(control, places, resting_tip, arms, frame_dt, rows)
         self.hold_steps = max(1, round(control.hold / frame_dt))
         self.goal = self.goal.copy()
 
@@ -54,8 +57,9 @@ class Track(Task):
     """Follow a target that goes from one reachable place to another and back every control.track_period."""
     name = "track"
 
-    def __init__(self, control: ControlConfig, places: np.ndarray, resting_tip: np.ndarray, arms: int, frame_dt: float):
-        super().__init__(control, places, resting_tip, arms, frame_dt)
+    def __init__(self, control: ControlConfig, places: np.ndarray, resting_tip: np.ndarray, arms: int, frame_dt: float,
+                 rows: int):
+        super().__init__(control, places, resting_tip, arms, frame_dt, rows)
         self.ends = np.repeat(self.goal[:, None], 2, axis=1)
 
     def start(self, arms: np.ndarray, rngs: list) -> None:
@@ -68,9 +72,31 @@ class Track(Task):
 
 
 class Hold(Task):
-    """Keep the tip where it hangs while the top is shaken sideways."""
+    """Keep the tip where it hangs while the top is shaken sideways and, once an episode, a row of the lower
+    half is pushed in a random direction (control.push_force per node, for control.push_duration)."""
     name = "hold"
     shaken = True
+
+    def __init__(self, control: ControlConfig, places: np.ndarray, resting_tip: np.ndarray, arms: int, frame_dt: float,
+                 rows: int):
+        super().__init__(control, places, resting_tip, arms, frame_dt, rows)
+        self.push_window = np.zeros((arms, 2))  # [start, end) s into the episode
+        self.push_force = np.zeros((arms, 2))   # N per node
+        self.push_row = np.zeros(arms, int)
+
+    @property
+    def pushed(self) -> bool:
+        return self.control.push_force[1] > 0
+
+    def start(self, arms: np.ndarray, rngs: list) -> None:
+        c = self.control
+        for a in arms:
+            rng = rngs[a]
+            start = rng.uniform(0.25 * c.episode, 0.75 * c.episode)
+            self.push_window[a] = start, start + rng.uniform(*c.push_duration)
+            magnitude, angle = rng.uniform(*c.push_force), rng.uniform(0, 2 * math.pi)
+            self.push_force[a] = magnitude * math.cos(angle), magnitude * math.sin(angle)
+            self.push_row[a] = rng.integers(self.rows // 2, self.rows)
 
 
 TASKS: dict[str, type[Task]] = {task.name: task for task in (Reach, Track, Hold)}

@@ -2,8 +2,10 @@
 `gymnasium.make_vec("softarm/Reach-v0", num_envs=256)`.
 
 Autoreset is Gymnasium's default, NEXT_STEP: an arm whose episode ended is reset by the next `step`, which
-returns its first observation with reward 0 and ignores its action. `reset(options={"reset_mask": mask})` resets
-only the arms in the mask.
+returns its first observation with reward 0 and ignores its action. With `autoreset_mode=AutoresetMode.SAME_STEP`
+(what Stable-Baselines3 expects: softarm.envs.sb3) the ending step resets it and returns its first observation, the
+last one of the ended episode in `info["final_obs"]`. `reset(options={"reset_mask": mask})` resets only the arms in
+the mask.
 """
 
 from typing import Any, Optional, Sequence, Union
@@ -22,9 +24,12 @@ class SoftArmVectorEnv(VectorEnv):
     metadata = {"render_modes": ["rgb_array"], "render_fps": 100, "autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, num_envs: int = 1, task: str = "reach", config: ConfigLike = None,
-                 observe: Sequence[str] = DEFAULT, render_mode: Optional[str] = None, arch: str = "cpu"):
+                 observe: Sequence[str] = DEFAULT, render_mode: Optional[str] = None, arch: str = "cpu",
+                 autoreset_mode: AutoresetMode = AutoresetMode.NEXT_STEP):
         if num_envs < 1:
             raise ValueError(f"num_envs = {num_envs}: a vector env needs at least one arm")
+        if autoreset_mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
+            raise ValueError(f"autoreset_mode {autoreset_mode}: this env offers NEXT_STEP and SAME_STEP")
         self.num_envs = num_envs
         self.arms = start(config, task, num_envs, arch)
         self.observed = observations(observe)
@@ -33,7 +38,7 @@ class SoftArmVectorEnv(VectorEnv):
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.render_mode = render_mode
-        self.metadata = {**self.metadata, "render_fps": round(1 / self.arms.dt)}
+        self.metadata = {**self.metadata, "render_fps": round(1 / self.arms.dt), "autoreset_mode": autoreset_mode}
         self._ended = np.zeros(num_envs, bool)
         self._closed = False
 
@@ -54,12 +59,26 @@ class SoftArmVectorEnv(VectorEnv):
 
     def step(self, actions):
         u = commands(actions, self.arms, self.action_space.shape)
+        if self.metadata["autoreset_mode"] == AutoresetMode.SAME_STEP:
+            return self._step_and_reset(u)
         ended = np.flatnonzero(self._ended)
         reward, terminated, truncated = self.arms.step(u, np.flatnonzero(~self._ended))
         self.arms.reset(ended)
         reward[ended], terminated[ended], truncated[ended] = 0.0, False, False
         self._ended = terminated | truncated
         return observe(self.arms, self.observed), reward, terminated, truncated, self._info()
+
+    def _step_and_reset(self, u: np.ndarray):
+        reward, terminated, truncated = self.arms.step(u, np.arange(self.num_envs))
+        info = self._info()
+        ended = np.flatnonzero(terminated | truncated)
+        if len(ended):
+            last = observe(self.arms, self.observed)
+            info["final_obs"] = np.full(self.num_envs, None, object)
+            info["final_obs"][ended] = [{key: value[a] for key, value in last.items()} for a in ended]
+            info["_final_obs"] = terminated | truncated
+            self.arms.reset(ended)
+        return observe(self.arms, self.observed), reward, terminated, truncated, info
 
     def render(self) -> Optional[tuple[np.ndarray, ...]]:
         if self.render_mode != "rgb_array":

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, Sequence
 import numpy as np
 
 from softarm.config import Config
+from softarm.errors import RecordingError
 from softarm.model.registry import input_channel_class
 from softarm.model.scaler import Scaler
 from softarm.sense.reading import needs_nodes, sensed_stretch, sensor_count
@@ -80,6 +81,22 @@ class DriveRate(InputChannel):
     def read(self, recording: "Recording", config: Config) -> np.ndarray:
         d = np.asarray(recording.drive(), np.float64)
         return np.concatenate([[0.0], np.diff(d)])[:, None] / recording.frame_dt
+
+
+class Activation(InputChannel):
+    """A commanded arm's motor command: its muscles' activations, one per group, as `/arm/activation` records
+    them (the recordings of softarm.envs)."""
+    name = "activation"
+    what = "muscle activations"
+
+    def features(self, model: dict[str, Any], config: Config) -> int:
+        return len(model.get("muscles", {}).get("names", ()))
+
+    def read(self, recording: "Recording", config: Config) -> np.ndarray:
+        if recording.activation is None:
+            raise RecordingError(f"{recording.path} has no muscle activations (only the control environments' "
+                                 "recordings have them): train without the activation input")
+        return np.asarray(recording.activation, np.float64)
 
 
 def channels(names: Sequence[str] = PAPER) -> tuple[InputChannel, ...]:

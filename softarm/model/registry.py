@@ -18,6 +18,7 @@ INPUT_CHANNELS = {
     "stretch": "softarm.model.inputs:Stretch",      # the stretch sensors, read as [sensing] says
     "drive": "softarm.model.inputs:Drive",          # the motor command: the top's displacement
     "drive_rate": "softarm.model.inputs:DriveRate",  # its rate, by a backward difference
+    "activation": "softarm.model.inputs:Activation",  # a commanded arm's muscle activations (softarm.envs)
 }
 
 TRUST = {

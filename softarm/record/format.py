@@ -17,6 +17,7 @@ STRETCH = "/arm/stretch"
 NODES = "/arm/nodes"
 EXCITATION = "/arm/excitation"
 DISTURBANCE = "/arm/disturbance"
+ACTIVATION = "/arm/activation"  # only in the recordings of a commanded arm (its model has `muscles`)
 TOPICS = (IMAGE, STRETCH, NODES, EXCITATION)  # in every version; /3 adds DISTURBANCE
 
 IMPORTED = "imported"  # the model document's `kind` of a recording imported from a robot's log (no nodes)
@@ -53,3 +54,8 @@ JSON_SCHEMAS = {
         {"active": {"type": "array", "items": {"type": "integer", "minimum": 0},
                     "description": "indices into the model metadata's disturbances"}})),
 }
+
+ACTIVATION_SCHEMA = {ACTIVATION: ("softarm.Activation", json_schema(
+    "softarm.Activation", "The muscles of a commanded arm (docs/model.md, Muscles), one value per group",
+    {"command": {**_NUMBERS, "description": "the command held from this frame to the next, 0..1"},
+     "activation": {**_NUMBERS, "description": "the activation at this frame, 0..1"}}))}

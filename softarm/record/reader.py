@@ -18,6 +18,7 @@ from softarm.errors import RecordingError
 from softarm.record.decode import mono8_image, signal_values
 from softarm.record.document import check_model
 from softarm.record.format import (
+    ACTIVATION,
     DISTURBANCE,
     EXCITATION,
     FORMAT,
@@ -51,15 +52,18 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
     frames = (np.stack([mono8_image(messages[IMAGE][s], path, height, width) for s in stamps]) > 127).astype(np.uint8)
     complete = run is not None and run.get("complete") == "true" and not truncated
     signals = {STRETCH: (("stretch",), (len(model["sensors"]),)), EXCITATION: (("displacement",), ()),
-               NODES: (("positions",), (len(model["nodes"]), 2))}
-    stretch, displacement, positions = (signal_values(messages[topic], stamps, *signals[topic], topic, path)
-                                        if topic in messages else None for topic in (STRETCH, EXCITATION, NODES))
+               NODES: (("positions",), (len(model["nodes"]), 2)),
+               ACTIVATION: (("activation",), (len(model.get("muscles", {}).get("names", ())),))}
+    stretch, displacement, positions, activation = (
+        signal_values(messages[topic], stamps, *signals[topic], topic, path) if messages.get(topic) else None
+        for topic in (STRETCH, EXCITATION, NODES, ACTIVATION))
     if truncated:
         warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
                       stacklevel=2)
     return Recording(path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames, stretch=stretch,
                      displacement=displacement, positions=positions if nodes else None, complete=complete,
-                     truncated=truncated, active=_active(messages.get(DISTURBANCE, {}), stamps, model, path))
+                     truncated=truncated, active=_active(messages.get(DISTURBANCE, {}), stamps, model, path),
+                     activation=activation)
 
 
 def read_model(path: Union[str, Path]) -> dict[str, Any]:
@@ -92,11 +96,12 @@ def count_frames(path: Union[str, Path]) -> int:
 def _topics(nodes: bool, model: Optional[dict[str, Any]] = None) -> tuple[str, ...]:
     """The topics every frame has: /3 adds the disturbance channel (its model lists `disturbances`)."""
     topics = TOPICS if nodes else tuple(t for t in TOPICS if t != NODES)
-    return (*topics, DISTURBANCE) if model is not None and "disturbances" in model else topics
+    topics = (*topics, DISTURBANCE) if model is not None and "disturbances" in model else topics
+    return (*topics, ACTIVATION) if model is not None and "muscles" in model else topics
 
 
 def _scan(path: Path, nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, str]], dict[str, dict[int, bytes]], bool]:
-    wanted = (*_topics(nodes), DISTURBANCE)
+    wanted = (*_topics(nodes), DISTURBANCE, ACTIVATION)
     model = run = None
     channels: dict[int, str] = {}
     messages: dict[str, dict[int, bytes]] = {t: {} for t in wanted}

@@ -27,6 +27,7 @@ class Recording:
     truncated: bool              # the file was cut short and recovered
     active: np.ndarray           # (T, D) bool: disturbance d of the model's list acts at frame k (D = 0 before /3)
     seen: np.ndarray = field(default_factory=lambda: np.ones(0, bool))  # (T,) bool: the camera has frame k
+    activation: Optional[np.ndarray] = None  # (T, G) the muscles' activations of a commanded arm; None without muscles
 
     def __post_init__(self) -> None:
         if len(self.seen) != len(self.times):  # a simulated recording sees every frame

@@ -6,7 +6,7 @@ far (`complete = "false"`). A blown-up run discards its `.part`; a failed write 
 """
 
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 import orjson
@@ -18,6 +18,8 @@ from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive
 from softarm.config import Config
 from softarm.record.format import (
+    ACTIVATION,
+    ACTIVATION_SCHEMA,
     DISTURBANCE,
     EXCITATION,
     FORMAT,
@@ -68,33 +70,41 @@ class RecordingWriter:
         self.frame_dt = frame_dt
         self.frames = 0
         self.broken = False
-        self._mcap = McapFile(self.path, (IMAGE,), JSON_SCHEMAS)
+        self._mcap = McapFile(self.path, (IMAGE,), {**JSON_SCHEMAS, **(ACTIVATION_SCHEMA if "muscles" in model else {})})
         self._mcap.writer.add_metadata(META_MODEL, {"format": FORMAT, "model": orjson.dumps(model).decode()})
         self._windows = [(d["start"], np.inf if d["end"] is None else d["end"]) for d in model.get("disturbances", [])]
 
-    def write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray) -> None:
-        """Append a block of frames: images (B, H, W) of 0/1, stretch (B, P), positions (B, N, 2), displacement (B,).
+    def write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray,
+              muscles: Optional[tuple[np.ndarray, np.ndarray]] = None) -> None:
+        """Append a block of frames: images (B, H, W) of 0/1, stretch (B, P), positions (B, N, 2), displacement (B,),
+        and for a commanded arm, its muscles' (commands, activations), each (B, G).
 
         A write that fails (a full disk) marks the writer broken: its file may end in half a record, so it
         must stay `.part` (the reader recovers every complete chunk) and never be closed.
         """
         self.broken = True
-        self._write(images, stretch, positions, displacement)
+        self._write(images, stretch, positions, displacement, muscles)
         self.broken = False
 
-    def _write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray) -> None:
+    def _write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray,
+               muscles: Optional[tuple[np.ndarray, np.ndarray]]) -> None:
         n = len(images)
         stamps = np.round(np.arange(self.frames, self.frames + n) * self.frame_dt * 1e9).astype(np.int64).tolist()
         seconds = [ns / 1e9 for ns in stamps]
         positions = np.round(positions, POSITION_DECIMALS)  # a fresh C-contiguous array, as orjson needs
         stretch = np.ascontiguousarray(stretch, np.float64)
         dumps, numpy = orjson.dumps, orjson.OPT_SERIALIZE_NUMPY
-        self._mcap.add_frames(stamps, {
+        messages = {
             IMAGE: self._mcap.images(np.multiply(images, 255, dtype=np.uint8), stamps),
             STRETCH: [dumps({"t": t, "stretch": s}, option=numpy) for t, s in zip(seconds, stretch)],
             NODES: [dumps({"t": t, "positions": p}, option=numpy) for t, p in zip(seconds, positions)],
             EXCITATION: [dumps({"t": t, "displacement": float(d)}) for t, d in zip(seconds, displacement)],
-            DISTURBANCE: [dumps({"t": t, "active": active}) for t, active in zip(seconds, self._active(n))]})
+            DISTURBANCE: [dumps({"t": t, "active": active}) for t, active in zip(seconds, self._active(n))]}
+        if muscles is not None:
+            command, activation = (np.ascontiguousarray(m, np.float64) for m in muscles)
+            messages[ACTIVATION] = [dumps({"t": t, "command": u, "activation": a}, option=numpy)
+                                    for t, u, a in zip(seconds, command, activation)]
+        self._mcap.add_frames(stamps, messages)
         self.frames += n
 
     def _active(self, n: int) -> list[list[int]]:

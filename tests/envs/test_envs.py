@@ -37,14 +37,17 @@ def test_make_vec_builds_the_native_vector_env_with_batched_spaces():
     obs, reward, terminated, truncated, info = envs.step(envs.action_space.sample())
     assert reward.shape == terminated.shape == truncated.shape == (3,) and obs in envs.observation_space
     assert info["distance"].shape == (3,) and info["_distance"].all()
+    control = SHORT.control  # the reward of README's task table, never above 0
+    np.testing.assert_allclose(reward, -info["distance"] / control.reward_scale - (info["distance"] >= control.tolerance))
     envs.close()
 
 
-def test_each_arm_of_the_vector_env_runs_as_a_single_env_of_its_seed_through_autoresets():
+@pytest.mark.parametrize("task", ["track", "hold"])  # hold: the shaking's phase and the push follow each episode
+def test_each_arm_of_the_vector_env_runs_as_a_single_env_of_its_seed_through_autoresets(task):
     n, steps = 3, 45  # over two 20-step episodes: truncation, then NEXT_STEP's reset step, then a new episode
-    config = load_config(overrides={**QUICK, "sensing.noise": 1e-4})
-    envs = SoftArmVectorEnv(n, "track", config)
-    singles = [SoftArmEnv("track", config) for _ in range(n)]
+    config = load_config(overrides={**QUICK, "sensing.noise": 1e-4, "control.push_force": [1.0, 2.0]})
+    envs = SoftArmVectorEnv(n, task, config)
+    singles = [SoftArmEnv(task, config) for _ in range(n)]
     actions = np.random.default_rng(0).uniform(-0.2, 1.2, (steps, n, 4))  # some clipped
     got = [envs.reset(seed=10)[0]]
     expected = [[env.reset(seed=10 + a)[0] for a, env in enumerate(singles)]]
@@ -106,3 +109,23 @@ def test_out_of_range_commands_are_clipped_to_the_unit_interval():
         np.testing.assert_array_equal(a[key], b[key])
     clipped.close()
     plain.close()
+
+
+def test_same_step_autoreset_returns_the_first_observation_and_keeps_the_last_in_info():
+    same = SoftArmVectorEnv(2, "track", SHORT, autoreset_mode=AutoresetMode.SAME_STEP)
+    next_step = SoftArmVectorEnv(2, "track", SHORT)
+    assert same.metadata["autoreset_mode"] == AutoresetMode.SAME_STEP
+    for env in (same, next_step):
+        env.reset(seed=4)
+    actions = np.random.default_rng(1).uniform(0, 1, (20, 2, 4))
+    for u in actions:  # 20 steps: the episode's end
+        a, _, _, truncated, info = same.step(u)
+        b, *_ = next_step.step(u)
+    assert truncated.all() and info["_final_obs"].all()
+    for arm in range(2):
+        for key in b:
+            np.testing.assert_array_equal(info["final_obs"][arm][key], b[key][arm])
+    b, reward, *_ = next_step.step(actions[0])  # NEXT_STEP's reset step
+    assert (reward == 0).all()
+    for key in b:
+        np.testing.assert_array_equal(a[key], b[key])
