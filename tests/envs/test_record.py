@@ -17,6 +17,7 @@ from softarm.arm.reference import simulate_reference
 from softarm.config import config_from_dict, load_config
 from softarm.envs.record import RecordEpisodes
 from softarm.record.reader import read_recording
+from tests.helpers.cli import assert_one_line_error
 from tests.helpers.cli import softarm as run_softarm
 
 
@@ -72,3 +73,13 @@ def test_episodes_train_with_the_activation_as_input_and_replay(babble, tmp_path
                            cwd=tmp_path, timeout=300)
     assert replayed.returncode == 0, replayed.stderr
     assert "IoU" in replayed.stdout and (tmp_path / "r.mcap").exists()
+
+
+def test_babble_refuses_a_folder_that_holds_episodes_and_an_unknown_task(tmp_path):
+    first = run_softarm("babble", str(tmp_path / "b"), "--episodes", "1", "--seconds", "1", cwd=tmp_path)
+    assert first.returncode == 0, first.stderr
+    before = sorted((tmp_path / "b").iterdir())
+    assert_one_line_error(run_softarm("babble", str(tmp_path / "b"), "--episodes", "1", "--seconds", "1",
+                                      cwd=tmp_path), "empty folder")
+    assert sorted((tmp_path / "b").iterdir()) == before
+    assert_one_line_error(run_softarm("babble", str(tmp_path / "c"), "--task", "fly", cwd=tmp_path), "fly", "reach")
