@@ -6,7 +6,6 @@ runs exactly as a single env seeded s + i, whatever the other arms do.
 """
 
 import dataclasses
-from typing import Optional, Sequence
 
 import numpy as np
 
@@ -14,7 +13,7 @@ from softarm.arm.body import build_body
 from softarm.arm.drive import drive_for_seed
 from softarm.arm.muscles import build_muscles
 from softarm.arm.sensors import stretch
-from softarm.arm.statics import hanging_equilibrium
+from softarm.arm.statics import hanging_equilibrium, initial_state
 from softarm.config import Config
 from softarm.envs.pushes import place_pushes, placeholders
 from softarm.envs.sensing import StepSensing
@@ -62,11 +61,6 @@ class Arms:
     def sensor_count(self) -> int:
         return len(self.pairs)
 
-    def seed(self, arms: Sequence[int], seeds: Sequence[Optional[int]]) -> None:
-        """New generators for the given arms (None: fresh entropy)."""
-        for a, s in zip(arms, seeds):
-            self.rngs[a] = np.random.default_rng(s)
-
     def reset(self, arms: np.ndarray) -> None:
         """Start new episodes for the given arms: the passive hanging arm (on a shaken top, where the top is now),
         muscles relaxed, the task's new draw; the other arms keep their state."""
@@ -79,8 +73,7 @@ class Arms:
         for k, a in enumerate(arms):  # the shaking starts each episode at a phase t0 of its own: t = t0 + time in it
             t0 = self.rngs[a].uniform(0.0, self.config.excitation.offset_range) if self.task.shaken else 0.0
             offsets[a], self.t0[a] = t0 - now, t0
-            x[k] = self.hanging + self.drives[a].along(float(self.drives[a].displacement(t0)))
-            v[k] = self.drives[a].along(float(self.drives[a].velocity(t0)))
+            x[k], v[k] = initial_state(self.hanging, dataclasses.replace(self.drives[a], time_offset=t0))
         self.sim.time_offset.from_numpy(offsets)
         self.commands[arms] = 0.0
         self.sim.command(self.commands)

@@ -14,6 +14,7 @@ import numpy as np
 import torch
 from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv, VectorWrapper
+from gymnasium.vector.utils import batch_space
 
 from softarm.envs.arms import Arms
 from softarm.errors import CheckpointError
@@ -44,8 +45,6 @@ class ImaginedBody(VectorWrapper):
             camera = self.arms.config.camera
             single["imagined_pixels"] = spaces.Box(0.0, 1.0, (camera.height, camera.width), np.float32)
         self.single_observation_space = spaces.Dict(single)
-        from gymnasium.vector.utils import batch_space
-
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         rnn = self.model.rnn
         self._lstm = isinstance(rnn, torch.nn.LSTM)
