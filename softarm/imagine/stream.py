@@ -3,7 +3,7 @@
 A robot's loop calls `step(sample)` once per reading (every 10 ms at the default frame rate). The latent
 model's online reader keeps what it needs (the window model its last `history` samples, a stream model
 only its recurrent state; an ensemble one reader per member) and answers; the decoder then draws one latent
-code; the surprise's forward model compares the sample with what the state before it expected: the same
+code; the surprise's forward model compares the sample with what the samples before it expected: the same
 computation as a batch replay, frame for frame. With the paper's set-up (`include_current` false) the samples
 up to k imagine frame k+1, what the body will look like at the next sample; with `include_current` frame k.
 """
@@ -55,14 +55,14 @@ class StreamingImaginer:
         self.samples += 1
         normalised = imaginer.normalised(raw)
         answers = [reader.step(normalised) for reader in self._readers]
-        surprise = (float("nan") if self._surprise is None
-                    else self._surprise.step(self._readers[0].state_vector, normalised.astype(np.float64)))
+        surprise, residual = ((float("nan"), float("nan")) if self._surprise is None
+                              else self._surprise.step(normalised.astype(np.float64), self._readers[0].state_vector))
         if answers[0] is None:
             return None
         target = np.array([self.samples - 1 + imaginer.latent.lead])
         prediction = joined_members([Prediction(target, latent[None], log_error[None]) for latent, log_error in answers])
-        if imaginer.surprise is not None:  # the calibrated confidence reads it, as in a batch replay
-            prediction = prediction.with_surprise(np.array([surprise]))
+        if imaginer.surprise is not None:  # the calibrated confidence reads both, as in a batch replay
+            prediction = prediction.with_surprise(np.array([surprise]), np.array([residual]))
         return ImaginedFrame(int(target[0]), imaginer.decode(prediction.latents)[0],
                              float(imaginer.confidence(prediction)[0]), surprise,
                              bool(imaginer.surprise is not None and surprise > imaginer.surprise.threshold))

@@ -10,8 +10,7 @@ samples (the stretch is always felt), so the alarm quietens once the new body is
 the error head, the autoencoder and the scalers stay as they were.
 """
 
-from dataclasses import dataclass
-from typing import Optional
+from dataclasses import dataclass, replace
 
 import numpy as np
 import torch
@@ -19,7 +18,7 @@ import torch
 from softarm.model.autoencoder import encode_frames
 from softarm.model.imaginer import Imaginer
 from softarm.model.latent import LatentModel
-from softarm.model.surprise import SurpriseModel
+from softarm.model.surprise import LAGS, SurpriseModel
 
 SHRINK = 0.03   # the pull toward the trained weights, relative to the mean squared feature times the samples
 
@@ -40,12 +39,12 @@ def adapt_heads(imaginer: Imaginer, window: Window, shrink: float = SHRINK) -> I
     frames = np.arange(max(window.start, imaginer.latent.first_frame), window.end)
     codes = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, window.frames[frames]))
     read = window.inputs[:window.end].astype(np.float32)
-    states = [model.states(read) for model in (imaginer.latent, *imaginer.members)]  # the first also feeds the surprise
+    states = [model.states(read) for model in (imaginer.latent, *imaginer.members)]
     models = [with_head(model, *ridge_toward(s[frames - lead], codes, *head_of(model), shrink))
               for model, s in zip((imaginer.latent, *imaginer.members), states)]
     surprise = imaginer.surprise
     if surprise is not None:
-        surprise = adapted_surprise(surprise, states[0], window.inputs[:window.end], window.start, shrink)
+        surprise = adapted_surprise(surprise, states[0], read.astype(np.float64), window.start, shrink)
     return Imaginer(imaginer.autoencoder, models[0], imaginer.latent_scaler, imaginer.inputs, tuple(models[1:]),
                     surprise, imaginer.trust)
 
@@ -79,11 +78,23 @@ def ridge_toward(x: np.ndarray, y: np.ndarray, weights: np.ndarray, bias: np.nda
 
 
 def adapted_surprise(model: SurpriseModel, states: np.ndarray, inputs: np.ndarray, start: int,
-                     shrink: float) -> Optional[SurpriseModel]:
-    """The forward model refitted toward its weights on the samples from `start` on."""
+                     shrink: float) -> SurpriseModel:
+    """The forward model and the memory check refitted toward their weights on the samples from `start` on
+    (the latent model's states (T, H) after each normalised input sample (T, F)); their spreads stay."""
+    x = model.features(inputs)[max(start - LAGS, 0):]
+    y = inputs[LAGS:][max(start - LAGS, 0):, list(model.felt)]
+    model = replace(model, weights=toward(x, y, model.weights, shrink))
+    if model.memory is None:
+        return model
     keep = np.arange(max(start, 1), len(inputs))
     keep = keep[np.isfinite(states[keep - 1]).all(axis=1)]
-    x = model.features(states[keep - 1], inputs[keep])
-    y = inputs[keep][:, list(model.felt)]
-    weights, bias = ridge_toward(x[:, :-1], y, model.weights[:-1], model.weights[-1], shrink)
-    return SurpriseModel(np.concatenate([weights, bias[None]]), model.scale, model.threshold, model.felt, model.command)
+    memory = model.memory
+    x = memory.features(states[keep - 1], inputs[keep])
+    return replace(model, memory=replace(memory, weights=toward(x, inputs[keep][:, list(model.felt)], memory.weights,
+                                                                 shrink)))
+
+
+def toward(x: np.ndarray, y: np.ndarray, weights: np.ndarray, shrink: float) -> np.ndarray:
+    """`ridge_toward` for a map whose features (and weights' rows) end with the constant."""
+    new, bias = ridge_toward(x[:, :-1], y, weights[:-1], weights[-1], shrink)
+    return np.concatenate([new, bias[None]])

@@ -1,21 +1,29 @@
-"""The surprise's forward model, fitted once the latent model is trained (docs/model.md, Surprise).
+"""The surprise's forward model, its expected spread and the memory check, fitted once the latent model is trained
+(docs/model.md, Surprise).
 
-It reads the main latent model's recurrent states over every recording: the training segments fit the
-forward model, the held-out motion (the test segments, validation recordings whole) sets each sensor's
-residual spread and the alarm's threshold. Frames where a disturbance acts are left out of both: the model
-learns what undisturbed motion feels like.
+The training segments of every recording fit the forward model, the spread it expects from the arm's vigour and
+the memory check (from the latent model's states); the held-out motion (the test segments, validation recordings
+whole) sets each sensor's residual spreads and the alarm's threshold. Samples near a disturbance are left out of all of them: the model learns what undisturbed
+motion feels like.
 """
 
-from typing import Optional
+from dataclasses import replace
+from typing import Optional, Sequence
 
 import numpy as np
-import torch
 
 from softarm.learn.train_state import TrainState
-from softarm.model.surprise import SurpriseModel, fit_surprise
+from softarm.model.alarm import alarm_threshold
+from softarm.model.memory_check import fit_memory_check
+from softarm.model.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel, vigour
+
+RIDGE = 1e-8          # the forward model's L2 penalty, relative to its mean squared feature
+SPREAD_RIDGE = 1e-6   # the spread map's L2 penalty per sample
+SPREAD_FLOOR = 1e-3   # added to a squared residual before its logarithm
+
+Part = tuple[np.ndarray, np.ndarray]  # normalised inputs (T, F), undisturbed (T,) bool
 
 
-@torch.inference_mode()
 def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
     """None when the model reads no stretch (nothing felt to be surprised by)."""
     data, t = state.data, state.config.train
@@ -26,12 +34,69 @@ def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
         return None
     fitting, calibration = [], []
     for seq in data.sequences:
-        inputs = state.inputs.normalise(seq.inputs)
-        states = state.latent.states(inputs.astype(np.float32))
+        read = state.inputs.normalise(seq.inputs).astype(np.float32)  # as the model reads them
+        states, inputs = state.latent.states(read), read.astype(np.float64)
         calm = seq.calm if seq.calm is not None else np.ones(len(inputs), bool)
         for segment, into in (("train", fitting), ("test", calibration)):
             a, b = seq.segment(segment)
-            if b - a > 1:
+            if b - a > LAGS + 1:
                 into.append((states[a:b], inputs[a:b], calm[a:b]))
-    return fit_surprise(fitting, felt, command, calibration or fitting, float(np.median(np.diff(data.sequences[0].times))),
-                        t.false_alarms_per_minute)
+    calibration = calibration or fitting
+    model = fit_surprise([p[1:] for p in fitting], felt, command, [p[1:] for p in calibration],
+                         float(np.median(np.diff(data.sequences[0].times))), t.false_alarms_per_minute)
+    return replace(model, memory=fit_memory_check(fitting, felt, command, calibration))
+
+
+def fit_surprise(parts: Sequence[Part], felt: Sequence[int], command: Sequence[int], calibration: Sequence[Part],
+                 frame_dt: float, false_alarms_per_minute: float) -> SurpriseModel:
+    """The forward model by ridge regression on `parts`, each sensor's residual spread on `calibration` (held-out
+    motion where there is some, else the same), the spread map on `parts` again, and the alarm's threshold on
+    `calibration`."""
+    felt, command = tuple(felt), tuple(command)
+    blank = np.zeros(VIGOURS * len(WINDOWS) + 1)
+    probe = SurpriseModel(np.zeros(0), np.ones(len(felt)), blank, 0.0, felt, command)
+    weights = _ridge([(probe.features(x), x[LAGS:, list(felt)], _quiet(c)) for x, c in parts], RIDGE, unshrunk=-1)
+    unscaled = SurpriseModel(weights, np.ones(len(felt)), blank, 0.0, felt, command)
+    errors = np.concatenate([unscaled.residuals(x)[_quiet(c, pad=True)] for x, c in calibration])
+    scale = np.maximum(np.sqrt(np.mean(errors ** 2, axis=0)), 1e-12)
+    scaled = SurpriseModel(weights, scale, blank, 0.0, felt, command)
+    spread = _ridge([(vigour(x, felt, command)[LAGS - 1:-1],
+                      np.log((scaled.residuals(x)[LAGS:] ** 2).mean(axis=1) + SPREAD_FLOOR)[:, None],
+                      _quiet(c) & (np.arange(LAGS, len(x)) >= max(WINDOWS))) for x, c in parts], SPREAD_RIDGE)[:, 0]
+    spread[-1] += np.log(np.nanmean(np.concatenate([_ratio(replace(scaled, spread=spread), x, c) for x, c in parts])))
+    model = SurpriseModel(weights, scale, spread, 0.0, felt, command)
+    threshold = alarm_threshold([(model.series(x)[0], c) for x, c in calibration], frame_dt, false_alarms_per_minute)
+    return SurpriseModel(weights, scale, spread, threshold, felt, command)
+
+
+def _ratio(model: SurpriseModel, inputs: np.ndarray, calm: np.ndarray) -> np.ndarray:
+    """Each quiet sample's mean squared residual over what the model expected: the log-linear fit estimates the
+    expected logarithm, so its constant is moved until these average 1 (the surprise's scale)."""
+    return ((model.residuals(inputs) ** 2).mean(axis=1) / model.expected(inputs))[_quiet(calm, pad=True)]
+
+
+def _quiet(calm: np.ndarray, pad: bool = False) -> np.ndarray:
+    """For each sample from LAGS on (or every sample, `pad`: False before LAGS): it and the LAGS before it are
+    undisturbed."""
+    disturbed = np.convolve(~calm, np.ones(LAGS + 1), "full")[:len(calm)] > 0
+    quiet = ~disturbed
+    quiet[:LAGS] = False
+    return quiet if pad else quiet[LAGS:]
+
+
+def _ridge(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], penalty: float,
+           unshrunk: Optional[int] = None) -> np.ndarray:
+    """Ridge regression of y on x over the kept finite rows of every (x, y, keep) part, summed part by part so the
+    rows never sit in memory together. With `unshrunk`, the penalty is relative to the mean squared feature and
+    that column (the constant) is not shrunk; without, it is per row and shrinks every column."""
+    xtx, xty, rows, squares = 0.0, 0.0, 0, 0.0
+    for x, y, keep in parts:
+        keep = keep & np.isfinite(x).all(axis=1) & np.isfinite(y).all(axis=1)
+        x, y = x[keep], y[keep]
+        xtx, xty, rows, squares = xtx + x.T @ x, xty + x.T @ y, rows + len(x), squares + float((x ** 2).sum())
+    width = np.shape(xtx)[0]
+    scale = penalty * (squares / (rows * width) if unshrunk is not None else 1.0) * rows
+    shrink = scale * np.eye(width)
+    if unshrunk is not None:
+        shrink[unshrunk, unshrunk] = 0.0
+    return np.linalg.solve(xtx + shrink, xty)

@@ -54,18 +54,23 @@ def check_contents(state: dict[str, Any], path: Path) -> None:
 
 
 def _surprise(value: Any) -> bool:
-    """The forward model's weights (rows: state, command, constant) to the felt sensors, their spreads and the
-    alarm's threshold, all finite."""
+    """The forward model's weights (rows: past inputs, command, constant) to the felt sensors, their spreads, the
+    map of the expected spread (absent in an earlier softarm's, which `Imaginer` refuses by name), the memory
+    check's weights and spreads where there is one, and the alarm's threshold, all finite."""
     if not isinstance(value, dict):
         return False
     try:
         weights, scale = torch.tensor(value["weights"], dtype=torch.float64), torch.tensor(value["scale"], dtype=torch.float64)
+        spread = torch.tensor(value.get("spread", [0.0]), dtype=torch.float64)
         felt, command = list(value["felt"]), list(value["command"])
         threshold = float(value["threshold"])
+        memory = value.get("memory", {"weights": value["weights"], "scale": value["scale"]})
+        memory = torch.tensor(memory["weights"], dtype=torch.float64), torch.tensor(memory["scale"], dtype=torch.float64)
     except (KeyError, IndexError, TypeError, ValueError, RuntimeError, OverflowError):
         return False
-    return (weights.ndim == 2 and weights.shape[1] == len(scale) == len(felt) > 0 and weights.shape[0] > len(command)
-            and bool(torch.isfinite(weights).all() and (scale > 0).all()) and threshold == threshold
+    return (all(w.ndim == 2 and w.shape[1] == len(s) == len(felt) > 0 and w.shape[0] > len(command)
+                and bool(torch.isfinite(w).all() and (s > 0).all()) for w, s in ((weights, scale), memory))
+            and spread.ndim == 1 and bool(torch.isfinite(spread).all()) and threshold == threshold
             and all(_count(i) for i in felt + command))
 
 

@@ -20,7 +20,7 @@ from softarm.model.latent import LatentModel
 from softarm.model.prediction import Prediction, joined_members
 from softarm.model.registry import latent_model_class, trust_class
 from softarm.model.scaler import Scaler
-from softarm.model.surprise import SurpriseModel
+from softarm.model.surprise import LAGS, SurpriseModel
 from softarm.model.trust import ErrorHeadTrust, Trust
 from softarm.model.windows import input_windows
 
@@ -56,9 +56,7 @@ class Imaginer:
         autoencoder.eval()
         latent.eval()
         autoencoder.to(memory_format=torch.channels_last)  # faster convolutions when decoding on the CPU
-        surprise = SurpriseModel.from_state(state["surprise"]) if state.get("surprise") else None
-        if surprise is not None and surprise.weights.shape[0] != t.lstm_hidden + len(surprise.command) + 1:
-            raise CheckpointError("the checkpoint's surprise model does not fit its latent model: train it again")
+        surprise = surprise_of(state, inputs.features, t.lstm_hidden)
         trust = trust_class(t.confidence).build(state.get("calibration"))
         if trust is None:
             raise CheckpointError(f"the checkpoint's confidence ({t.confidence}) was not fitted: finish it with --resume")
@@ -88,7 +86,8 @@ class Imaginer:
         predictions = [joined_members(parts) for parts in zip(*answers)]
         if self.surprise is None:
             return predictions
-        return [p.with_surprise(self.surprise.series(self.latent.states(n), n)[p.targets - self.latent.lead])
+        return [p.with_surprise(*(a[p.targets - self.latent.lead]
+                                  for a in self.surprise.series(n.astype(np.float64), self.latent.states(n))))
                 for p, n in zip(predictions, normalised)]
 
     @property
@@ -108,6 +107,22 @@ class Imaginer:
         """The prediction and the imagined pixel probabilities (M, H, W) of a whole raw input series (T, F)."""
         prediction = self.predict(raw)
         return prediction, self.decode(prediction.latents)
+
+
+def surprise_of(state: dict[str, Any], features: int, hidden: int) -> Optional[SurpriseModel]:
+    """The checkpoint's surprise model (None without one); refused where an earlier softarm fitted it or it does
+    not fit the inputs."""
+    if not state.get("surprise"):
+        return None
+    if not SurpriseModel.current(state["surprise"]):
+        raise CheckpointError("the checkpoint's surprise model is of an earlier softarm: refit it (and the "
+                              "calibrated confidence) with `softarm train RECORDINGS --out CHECKPOINT --resume`")
+    surprise = SurpriseModel.from_state(state["surprise"])
+    memory = surprise.memory
+    if (surprise.weights.shape[0] != LAGS * features + len(surprise.command) + 1
+            or memory is not None and memory.weights.shape != (hidden + len(surprise.command) + 1, len(surprise.felt))):
+        raise CheckpointError("the checkpoint's surprise model does not fit its inputs: train it again")
+    return surprise
 
 
 def loaded(make: Callable[[], torch.nn.Module], weights: dict[str, torch.Tensor]) -> torch.nn.Module:

@@ -37,7 +37,7 @@ class TrainingSeries:
 class OnlineReader:
     """One stream read sample by sample: `step` takes a normalised sample (P,) and returns the latent answer
     (K,) and its log squared errors (K,) for the frame it lets the model imagine, or None before the first;
-    `state` is then the recurrent state that sample left (H,), None before the model has one."""
+    `state_vector` is then the recurrent state that sample left (H,), None before the model has one."""
     state_vector: Optional[np.ndarray] = None
 
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
@@ -115,7 +115,8 @@ class LatentModel(nn.Module):
 
     def states(self, series: np.ndarray) -> np.ndarray:
         """(T, H) float64: the recurrent state the answer after each sample of a normalised series (T, P) reads;
-        NaN where the model has none yet. The surprise's forward model reads it (`softarm.model.surprise`)."""
+        NaN where the model has none yet. The surprise's memory check (`softarm.model.memory_check`) and adaptation
+        (`softarm.learn.adapt`) read it."""
         raise NotImplementedError
 
     @classmethod

@@ -15,6 +15,7 @@ class Prediction:
     log_error: np.ndarray   # (M, K) the error head's estimate of each feature's log squared error (members' mean)
     spread: Optional[np.ndarray] = None    # (M, K) an ensemble's variance across its members; None for one model
     surprise: Optional[np.ndarray] = None  # (M,) the surprise of the sample each frame is imagined from
+    residual: Optional[np.ndarray] = None  # (M,) its felt residual before the vigour divides it (`model.surprise`)
 
     @property
     def confidence(self) -> np.ndarray:
@@ -29,8 +30,8 @@ class Prediction:
     def arrays(self) -> tuple[Optional[np.ndarray], ...]:
         return tuple(getattr(self, f.name) for f in fields(self))
 
-    def with_surprise(self, surprise: np.ndarray) -> "Prediction":
-        return replace(self, surprise=surprise)
+    def with_surprise(self, surprise: np.ndarray, residual: np.ndarray) -> "Prediction":
+        return replace(self, surprise=surprise, residual=residual)
 
     @staticmethod
     def join(parts: Sequence["Prediction"]) -> "Prediction":

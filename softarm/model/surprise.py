@@ -1,63 +1,128 @@
 """Surprise: what the body felt that its own command did not predict.
 
-The latent model's recurrent state after sample k is the arm's memory of how its body moved; with the
-command of sample k + 1 (the efference copy: the robot knows what it told its motor) a linear forward model
-from that state predicts the stretch it expects to feel at k + 1. The surprise is the felt stretch's
-residual against that expectation, each sensor in units of its residual's spread on undisturbed motion,
-squared, averaged over the sensors and smoothed over `SMOOTHING` samples: about 1 while the world leaves the
-arm alone. An alarm fires while it exceeds a threshold set on undisturbed training motion for a false-alarm
-rate (`train.false_alarms_per_minute`). A pure command-to-stretch simulation cannot serve: the arm swings
-chaotically at its modes, so its feeling drifts from any prediction made from the command alone.
+The forward model is the arm's expectation of its own feeling: a linear map from the last `LAGS` samples of
+every input channel and the command of the next sample (the efference copy: the robot knows what it told its
+motor) to the stretch it expects to feel next. Linear on purpose: the body's mechanics are close to linear over
+one 10 ms step, so the map extrapolates to motions the corpus never showed, where a map from the latent model's
+state (trained to draw the body, not to predict the stretch) erred by hundreds of its spreads.
 
-NumPy only: the streamer's surprise costs one small matrix-vector product per sample.
+How far a felt sample may stray depends on how the arm is moving: a prediction is sharper while the arm hangs
+still than while it whips at a resonance. So each residual is divided by the spread the forward model expects
+for it, a log-linear map (`spread`) from the arm's recent vigour (exponential averages of the squared first and
+second differences of the stretch and of the command's second differences over `WINDOWS` samples, known before
+the sample): the surprise is the mean over sensors of the squared residual in units of each sensor's residual
+spread, divided by that expectation and smoothed over `SMOOTHING` samples. About 1 while the world leaves the
+arm alone; an alarm fires while it exceeds a threshold set for a false-alarm rate on undisturbed motion.
+
+NumPy only: the streamer's surprise costs two small matrix-vector products per sample.
 """
 
+from collections import deque
 from dataclasses import dataclass
-from typing import Any, Optional, Sequence
+from typing import Any, Optional
 
 import numpy as np
+from scipy.signal import lfilter
 
-SMOOTHING = 3.0      # samples: the exponential average's time constant (30 ms at the default rate)
-RIDGE = 1e-4         # the forward model's L2 penalty, relative to its mean squared feature
+from softarm.model.memory_check import MemoryCheck
+
+LAGS = 10            # samples of every input channel the forward model reads (100 ms at the default rate)
+WINDOWS = (5.0, 50.0)  # samples: time constants of the vigour averages
+SMOOTHING = 3.0      # samples: the surprise's exponential average (30 ms at the default rate)
+FLOOR = 1e-6         # added to the vigour averages before their logarithm (normalised units squared)
+VIGOURS = 3          # signals averaged per window: stretch's 2nd and 1st differences, command's 2nd difference
 
 
 @dataclass(frozen=True)
 class SurpriseModel:
-    weights: np.ndarray    # (H + C + 1, P): [state after sample k, command of sample k + 1, 1] -> stretch k + 1
+    weights: np.ndarray    # (LAGS * F + C + 1, P): [inputs k, k - 1, ..., command k + 1, 1] -> stretch k + 1
     scale: np.ndarray      # (P,) each sensor's residual spread on undisturbed motion (normalised units)
+    spread: np.ndarray     # (VIGOURS * len(WINDOWS) + 1,) log expected squared residual from the vigour after k
     threshold: float       # the alarm fires while the surprise exceeds it
     felt: tuple[int, ...]     # the columns of the normalised inputs that are felt (the stretch)
-    command: tuple[int, ...]  # the columns that are the command (the drive), known one sample ahead
+    command: tuple[int, ...]  # the columns that are the command, known one sample ahead
+    memory: Optional[MemoryCheck] = None  # how well the latent model's state foresees the stretch (the confidence's)
 
-    def residuals(self, states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
-        """(T,) squared normalised residual of each sample against the prediction from the sample before
-        (NaN where the state before it is not known: the first sample, or NaN states)."""
-        out = np.full(len(inputs), np.nan)
-        if len(inputs) > 1:
-            expected = self.features(states[:-1], inputs[1:]) @ self.weights
-            out[1:] = (((inputs[1:, list(self.felt)] - expected) / self.scale) ** 2).mean(axis=1)
+    def features(self, inputs: np.ndarray) -> np.ndarray:
+        """(T - LAGS, LAGS * F + C + 1): what predicts each sample from LAGS on, from a normalised series (T, F)."""
+        t = len(inputs)
+        lagged = [inputs[LAGS - 1 - j:t - 1 - j] for j in range(LAGS)]
+        return np.concatenate([*lagged, inputs[LAGS:, list(self.command)], np.ones((t - LAGS, 1))], axis=1)
+
+    def residuals(self, inputs: np.ndarray) -> np.ndarray:
+        """(T, P) each felt sample's residual in units of its sensor's spread; NaN for the first LAGS."""
+        out = np.full((len(inputs), len(self.felt)), np.nan)
+        if len(inputs) > LAGS:
+            out[LAGS:] = (inputs[LAGS:, list(self.felt)] - self.features(inputs) @ self.weights) / self.scale
         return out
 
-    def features(self, states: np.ndarray, next_inputs: np.ndarray) -> np.ndarray:
-        return np.concatenate([states, next_inputs[:, list(self.command)], np.ones((len(states), 1))], axis=1)
+    def expected(self, inputs: np.ndarray) -> np.ndarray:
+        """(T,) the squared residual the vigour before each sample leads to expect; NaN for the first."""
+        out = np.full(len(inputs), np.nan)
+        out[1:] = np.exp(vigour(inputs, self.felt, self.command)[:-1] @ self.spread)
+        return out
 
-    def series(self, states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
-        """(T,) the surprise after each sample, from the recurrent states after each (T, H) and the normalised
-        inputs (T, F); NaN until the first prediction."""
-        return smoothed(self.residuals(states, inputs))
+    def series(self, inputs: np.ndarray, states: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
+        """(T,) the surprise after each sample of a normalised series (T, F); NaN until the first prediction. And
+        (T,) the memory check's residual, smoothed the same way, from the latent model's states (T, H) after each
+        sample (all NaN without a memory check or states)."""
+        squared = (self.residuals(inputs) ** 2).mean(axis=1)
+        memory = (self.memory.residuals(states, inputs) if self.memory is not None and states is not None
+                  else np.full(len(inputs), np.nan))
+        return smoothed(squared / self.expected(inputs)), smoothed(memory)
 
     def online(self) -> "SurpriseReader":
         return SurpriseReader(self)
 
     def to_state(self) -> dict[str, Any]:
-        return {"weights": self.weights.tolist(), "scale": self.scale.tolist(), "threshold": self.threshold,
-                "felt": list(self.felt), "command": list(self.command), "smoothing": SMOOTHING}
+        return {"kind": "lagged", "lags": LAGS, "windows": list(WINDOWS), "smoothing": SMOOTHING,
+                "weights": self.weights.tolist(), "scale": self.scale.tolist(), "spread": self.spread.tolist(),
+                "threshold": self.threshold, "felt": list(self.felt), "command": list(self.command),
+                **({"memory": self.memory.to_state()} if self.memory is not None else {})}
 
     @classmethod
     def from_state(cls, state: dict[str, Any]) -> "SurpriseModel":
+        felt, command = tuple(int(i) for i in state["felt"]), tuple(int(i) for i in state["command"])
+        memory = MemoryCheck.from_state(state["memory"], felt, command) if state.get("memory") else None
         return cls(np.asarray(state["weights"], np.float64), np.asarray(state["scale"], np.float64),
-                   float(state["threshold"]), tuple(int(i) for i in state["felt"]),
-                   tuple(int(i) for i in state["command"]))
+                   np.asarray(state["spread"], np.float64), float(state["threshold"]), felt, command, memory)
+
+    @staticmethod
+    def current(state: dict[str, Any]) -> bool:
+        """Whether a checkpoint's surprise state is this softarm's kind (earlier ones read the latent state)."""
+        return (state.get("kind") == "lagged" and state.get("lags") == LAGS and state.get("windows") == list(WINDOWS)
+                and state.get("smoothing") == SMOOTHING)
+
+
+FIRST = np.array([2, 1, 2])  # the first sample at which each vigour signal is defined
+
+
+def vigour_signals(inputs: np.ndarray, felt: tuple[int, ...], command: tuple[int, ...]) -> np.ndarray:
+    """(T, VIGOURS) the squared 2nd and 1st differences of the felt channels (mean over sensors) and the squared
+    2nd difference of the command (mean over its channels; 0 without one); NaN before each is defined (FIRST)."""
+    y, u = inputs[:, list(felt)], inputs[:, list(command)]
+    out = np.full((len(inputs), VIGOURS), np.nan)
+    if len(inputs) > 2:
+        out[2:, 0] = (np.diff(y, 2, axis=0) ** 2).mean(axis=1)
+        out[2:, 2] = (np.diff(u, 2, axis=0) ** 2).mean(axis=1) if u.shape[1] else 0.0
+    if len(inputs) > 1:
+        out[1:, 1] = (np.diff(y, 1, axis=0) ** 2).mean(axis=1)
+    return out
+
+
+def vigour(inputs: np.ndarray, felt: tuple[int, ...], command: tuple[int, ...]) -> np.ndarray:
+    """(T, VIGOURS * len(WINDOWS) + 1) the log vigour after each sample, with a constant: each signal's
+    exponential average over each window, started at its first value (NaN before it)."""
+    signals = vigour_signals(inputs, felt, command)
+    columns = []
+    for window in WINDOWS:
+        a = 1.0 / window
+        for s, first in zip(signals.T, FIRST):
+            average = np.full(len(s), np.nan)
+            if len(s) > first:
+                average[first:] = lfilter([a], [1.0, a - 1.0], s[first:], zi=[(1.0 - a) * s[first]])[0]
+            columns.append(np.log(average + FLOOR))
+    return np.column_stack([*columns, np.ones(len(inputs))])
 
 
 def smoothed(values: np.ndarray) -> np.ndarray:
@@ -74,73 +139,33 @@ def smoothed(values: np.ndarray) -> np.ndarray:
 
 
 class SurpriseReader:
-    """The surprise sample by sample: keeps the prediction made from the last state and the average."""
+    """The surprise sample by sample: the last LAGS samples, the vigour averages, the latent model's last state
+    and the two smoothed values."""
 
     def __init__(self, model: SurpriseModel):
         self.model = model
-        self.previous: Optional[np.ndarray] = None
-        self.level: Optional[float] = None
+        self.past: deque[np.ndarray] = deque(maxlen=LAGS)  # newest first
+        self.averages = np.full((len(WINDOWS), VIGOURS), np.nan)  # NaN until each signal is defined
+        self.rates = 1.0 / np.asarray(WINDOWS)[:, None]
+        self.state: Optional[np.ndarray] = None
+        self.levels = np.full(2, np.nan)  # the surprise's and the memory check's averages
 
-    def step(self, state: Optional[np.ndarray], inputs: np.ndarray) -> float:
-        """The surprise after this normalised sample (F,), given the state the sample leaves (H,; None before
-        the model has one); NaN until the first prediction."""
+    def step(self, inputs: np.ndarray, state: Optional[np.ndarray] = None) -> tuple[float, float]:
+        """The surprise and the memory check (`SurpriseModel.series`) after this normalised sample (F,), given the
+        latent model's state after it (H,; None where it has none or the model no memory check)."""
         m = self.model
-        if self.previous is not None:
-            expected = m.features(self.previous[None], inputs[None]) @ m.weights
-            value = float((((inputs[list(m.felt)] - expected[0]) / m.scale) ** 2).mean())
-            self.level = value if self.level is None else self.level + (value - self.level) / SMOOTHING
-        self.previous = state
-        return float("nan") if self.level is None else self.level
-
-
-def fit_surprise(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], felt: Sequence[int],
-                 command: Sequence[int], calibration: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
-                 frame_dt: float, false_alarms_per_minute: float) -> SurpriseModel:
-    """The forward model by ridge regression on `parts` (states (T, H), normalised inputs (T, F), undisturbed
-    (T,) bool), the residual spread and the alarm threshold from `calibration` parts (held-out motion where
-    there is some, else the same)."""
-    x, y = [], []
-    probe = SurpriseModel(np.zeros(0), np.ones(len(felt)), 0.0, tuple(felt), tuple(command))
-    for states, inputs, calm in parts:
-        keep = calm[1:] & calm[:-1] & np.isfinite(states[:-1]).all(axis=1)
-        x.append(probe.features(states[:-1], inputs[1:])[keep])
-        y.append(inputs[1:, list(felt)][keep])
-    x, y = np.concatenate(x), np.concatenate(y)
-    penalty = RIDGE * np.mean(x ** 2) * len(x) * np.eye(x.shape[1])
-    penalty[-1, -1] = 0.0  # the constant is not shrunk
-    weights = np.linalg.solve(x.T @ x + penalty, x.T @ y)
-    unscaled = SurpriseModel(weights, np.ones(len(felt)), 0.0, tuple(felt), tuple(command))
-    errors = []
-    for states, inputs, calm in calibration:
-        expected = unscaled.features(states[:-1], inputs[1:]) @ weights
-        keep = calm[1:] & calm[:-1] & np.isfinite(expected).all(axis=1)
-        errors.append((inputs[1:, list(felt)] - expected)[keep])
-    scale = np.sqrt(np.mean(np.concatenate(errors) ** 2, axis=0))
-    model = SurpriseModel(weights, np.maximum(scale, 1e-12), 0.0, tuple(felt), tuple(command))
-    calm_series = [(model.series(s, i), c) for s, i, c in calibration]
-    threshold = alarm_threshold(calm_series, frame_dt, false_alarms_per_minute)
-    return SurpriseModel(weights, model.scale, threshold, tuple(felt), tuple(command))
-
-
-def alarm_onsets(surprise: np.ndarray, threshold: float) -> np.ndarray:
-    """Indices where the alarm starts: the surprise rises above the threshold."""
-    above = np.nan_to_num(surprise, nan=0.0) > threshold
-    return np.flatnonzero(above & ~np.concatenate([[False], above[:-1]]))
-
-
-def alarm_threshold(series: Sequence[tuple[np.ndarray, np.ndarray]], frame_dt: float, per_minute: float) -> float:
-    """The lowest threshold at which undisturbed motion (the surprise (T,) where `calm` (T,) holds, split into
-    its calm stretches) starts at most `per_minute` alarms a minute."""
-    stretches = [s[a:b] for s, calm in series for a, b in runs(calm)]
-    minutes = sum(len(s) for s in stretches) * frame_dt / 60.0
-    values = np.concatenate([s[np.isfinite(s)] for s in stretches])
-    for threshold in np.quantile(values, np.linspace(0.9, 1.0, 401)):
-        if sum(len(alarm_onsets(s, threshold)) for s in stretches) <= per_minute * minutes:
-            return float(threshold)
-    return float(values.max())
-
-
-def runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """[start, end) of every run of True in a bool mask."""
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist()))
+        values = np.full(2, np.nan)
+        if len(self.past) == LAGS:
+            x = np.concatenate([*self.past, inputs[list(m.command)], [1.0]])
+            residual = (inputs[list(m.felt)] - x @ m.weights) / m.scale
+            expected = np.exp(np.concatenate([np.log(self.averages.ravel() + FLOOR), [1.0]]) @ m.spread)
+            values[0] = float((residual ** 2).mean()) / expected
+        if m.memory is not None and self.state is not None and np.isfinite(self.state).all():
+            values[1] = m.memory.step(self.state, inputs)
+        self.levels = np.where(np.isnan(self.levels), values, np.where(np.isnan(values), self.levels,
+                                                                      self.levels + (values - self.levels) / SMOOTHING))
+        self.state = state
+        self.past.appendleft(inputs)
+        signals = np.tile(vigour_signals(np.array(list(self.past)[2::-1]), m.felt, m.command)[-1], (len(WINDOWS), 1))
+        self.averages = np.where(np.isnan(self.averages), signals, (1.0 - self.rates) * self.averages + self.rates * signals)
+        return float(self.levels[0]), float(self.levels[1])

@@ -72,7 +72,7 @@ class EnsembleTrust(Trust):
 
 class CalibratedTrust(Trust):
     """The frame's IoU predicted from what the model knows without a camera: the error head's predicted error,
-    the surprise, and the members' disagreement where there is an ensemble; a linear map of their logarithms
+    the surprise and the felt residual, and the members' disagreement where there is an ensemble; a linear map of their logarithms
     to log(1 - IoU + MARGIN), fitted on held-out frames when the checkpoint was trained (`calibration`)."""
     name = "calibrated"
     MARGIN = 0.01
@@ -109,11 +109,12 @@ def as_iou(predicted: np.ndarray) -> np.ndarray:
 
 
 def calibration_features(prediction: Prediction) -> list[np.ndarray]:
-    """log of the error head's mean predicted squared error, of the surprise (+0.1; 1 where unknown) and of the
-    members' mean variance where there are members."""
+    """log of the error head's mean predicted squared error, of the surprise and of the felt residual (each +0.1;
+    1 where unknown) and of the members' mean variance where there are members."""
     features = [np.log(np.exp(prediction.log_error).mean(axis=1))]
-    surprise = prediction.surprise if prediction.surprise is not None else np.ones(len(prediction.latents))
-    features.append(np.log(np.nan_to_num(surprise, nan=1.0) + 0.1))
+    for felt in (prediction.surprise, prediction.residual):
+        felt = felt if felt is not None else np.ones(len(prediction.latents))
+        features.append(np.log(np.nan_to_num(felt, nan=1.0) + 0.1))
     if prediction.spread is not None:
         features.append(np.log(prediction.spread.mean(axis=1) + 1e-12))
     return features

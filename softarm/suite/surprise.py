@@ -14,7 +14,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from softarm.model.surprise import alarm_onsets, alarm_threshold
+from softarm.model.alarm import alarm_onsets, alarm_threshold
 from softarm.suite.trust import auroc
 
 PER_MINUTE = 1.0

@@ -11,6 +11,7 @@ from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
 from softarm.imagine.replay import compute_replay
+from softarm.model.surprise import LAGS
 from tests.helpers.cli import RERUN, assert_one_line_error, softarm
 
 
@@ -60,8 +61,10 @@ def test_imagination_mcap_decodes_with_a_plain_mcap_reader(outputs, recordings, 
     assert images == [round(k * 0.01 * 1e9) for k in range(6, 400)] == [t for t, _ in ious] == [t for t, _ in trust]
     assert [t for t, _ in surprise] == [t for t, _ in alarm] == images
     replayed = compute_replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", nodes=False)
-    np.testing.assert_allclose([v for _, v in surprise], replayed.surprise[6:400], rtol=1e-6)
-    assert [v for _, v in alarm] == list(replayed.alarm[6:400]) and all(v >= 0 for _, v in surprise)
+    felt = [np.nan if v is None else v for _, v in surprise]  # null before the forward model's first prediction
+    np.testing.assert_allclose(felt, replayed.surprise[6:400], rtol=1e-6)
+    assert np.isfinite(felt[LAGS + 1 - 6:]).all() and np.nanmin(felt) >= 0  # frame k + 1 from sample k on
+    assert [v for _, v in alarm] == list(replayed.alarm[6:400])
     assert all(0 <= v <= 1 for _, v in ious) and all(0 < v <= 1 for _, v in trust)
     info = meta["softarm.imagination"]
     assert info["source_recording"].endswith("s1.mcap") and info["checkpoint"].endswith("tiny.pt")

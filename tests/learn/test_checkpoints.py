@@ -27,6 +27,15 @@ def test_checkpoint_of_another_model_shape_is_refused(recordings, tiny_checkpoin
                           "do not fit")
 
 
+def test_a_surprise_model_of_an_earlier_softarm_is_refused_with_how_to_refit_it(recordings, tiny_checkpoint, tmp_path):
+    state = load_checkpoint(tiny_checkpoint.checkpoint)
+    old = state["surprise"]
+    state["surprise"] = {key: old[key] for key in ("weights", "scale", "threshold", "felt", "command")}  # no kind
+    torch.save(state, tmp_path / "earlier.pt")
+    assert_one_line_error(softarm("replay", "earlier.pt", str(recordings / "s0.mcap"), cwd=tmp_path),
+                          "--resume")
+
+
 def test_empty_checkpoint_is_refused(recordings, tmp_path):
     (tmp_path / "empty.pt").write_bytes(b"")
     assert_one_line_error(softarm("replay", "empty.pt", str(recordings / "s0.mcap"), cwd=tmp_path),
