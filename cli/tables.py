@@ -96,5 +96,12 @@ def surprise_lines(report: Optional[dict[str, Any]]) -> list[str]:
     rate = report["false_alarms_per_minute"]
     return [f"surprise (alarm at {report['thresholds']['suite']:.1f}, {rate['suite']:.2f} false alarms a minute; the "
             f"checkpoint's {report['thresholds']['own']:.1f}, {rate['own']:.2f} a minute): " + "; ".join(
-                f"{name} AUROC {row['auroc']:.2f}, latency {row['latency_ms_suite']:.0f} ms "
+                f"{name} AUROC {row['auroc']:.2f}{touching(row)}, latency {row['latency_ms_suite']:.0f} ms "
                 f"({row['detected_suite']:.0%} detected)" for name, row in report["families"].items())]
+
+
+def touching(row: dict[str, Any]) -> str:
+    """Where an obstacle stands: the AUROC against the frames the arm touches it in."""
+    if "auroc_touching" not in row:
+        return ""
+    return f" ({row['auroc_touching']:.2f} against the {row['touching_share']:.0%} of frames touching)"

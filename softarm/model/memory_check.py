@@ -37,8 +37,9 @@ class MemoryCheck:
 
     def step(self, state: np.ndarray, inputs: np.ndarray) -> float:
         """One sample's value of `residuals`, given the state before it (H,)."""
-        expected = self.features(state[None], inputs[None]) @ self.weights
-        return float((((inputs[list(self.felt)] - expected[0]) / self.scale) ** 2).mean())
+        hidden = len(state)
+        expected = state @ self.weights[:hidden] + inputs[list(self.command)] @ self.weights[hidden:-1] + self.weights[-1]
+        return float((((inputs[list(self.felt)] - expected) / self.scale) ** 2).mean())
 
     def to_state(self) -> dict[str, Any]:
         return {"weights": self.weights.tolist(), "scale": self.scale.tolist()}

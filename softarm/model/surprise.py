@@ -17,7 +17,6 @@ arm alone; an alarm fires while it exceeds a threshold set for a false-alarm rat
 NumPy only: the streamer's surprise costs two small matrix-vector products per sample.
 """
 
-from collections import deque
 from dataclasses import dataclass
 from typing import Any, Optional
 
@@ -139,33 +138,63 @@ def smoothed(values: np.ndarray) -> np.ndarray:
 
 
 class SurpriseReader:
-    """The surprise sample by sample: the last LAGS samples, the vigour averages, the latent model's last state
-    and the two smoothed values."""
+    """The surprise sample by sample, in preallocated arrays (a robot's loop calls it every 10 ms): the last LAGS
+    samples as the forward model's features, the vigour averages, the latent model's last state and the two
+    smoothed values."""
 
     def __init__(self, model: SurpriseModel):
         self.model = model
-        self.past: deque[np.ndarray] = deque(maxlen=LAGS)  # newest first
+        self.felt, self.command = np.array(model.felt, int), np.array(model.command, int)
+        self.width = (model.weights.shape[0] - len(model.command) - 1) // LAGS  # input channels F
+        self.features = np.zeros(model.weights.shape[0])  # [sample k, k - 1, ..., k - LAGS + 1, command, 1]
+        self.features[-1] = 1.0
+        self.vigour = np.ones(VIGOURS * len(WINDOWS) + 1)
         self.averages = np.full((len(WINDOWS), VIGOURS), np.nan)  # NaN until each signal is defined
         self.rates = 1.0 / np.asarray(WINDOWS)[:, None]
+        self.seen = 0
         self.state: Optional[np.ndarray] = None
-        self.levels = np.full(2, np.nan)  # the surprise's and the memory check's averages
+        self.levels = [float("nan"), float("nan")]  # the surprise's and the memory check's averages
 
     def step(self, inputs: np.ndarray, state: Optional[np.ndarray] = None) -> tuple[float, float]:
         """The surprise and the memory check (`SurpriseModel.series`) after this normalised sample (F,), given the
         latent model's state after it (H,; None where it has none or the model no memory check)."""
-        m = self.model
-        values = np.full(2, np.nan)
-        if len(self.past) == LAGS:
-            x = np.concatenate([*self.past, inputs[list(m.command)], [1.0]])
-            residual = (inputs[list(m.felt)] - x @ m.weights) / m.scale
-            expected = np.exp(np.concatenate([np.log(self.averages.ravel() + FLOOR), [1.0]]) @ m.spread)
-            values[0] = float((residual ** 2).mean()) / expected
+        m, x, width = self.model, self.features, self.width
+        values = [float("nan"), float("nan")]
+        if self.seen >= LAGS:
+            x[LAGS * width:-1] = inputs[self.command]
+            residual = (inputs[self.felt] - x @ m.weights) / m.scale
+            self.vigour[:-1] = np.log(self.averages.ravel() + FLOOR)
+            values[0] = float(residual @ residual) / len(residual) / float(np.exp(self.vigour @ m.spread))
         if m.memory is not None and self.state is not None and np.isfinite(self.state).all():
             values[1] = m.memory.step(self.state, inputs)
-        self.levels = np.where(np.isnan(self.levels), values, np.where(np.isnan(values), self.levels,
-                                                                      self.levels + (values - self.levels) / SMOOTHING))
+        for i, value in enumerate(values):
+            if value == value:
+                level = self.levels[i]
+                self.levels[i] = value if level != level else level + (value - level) / SMOOTHING
         self.state = state
-        self.past.appendleft(inputs)
-        signals = np.tile(vigour_signals(np.array(list(self.past)[2::-1]), m.felt, m.command)[-1], (len(WINDOWS), 1))
-        self.averages = np.where(np.isnan(self.averages), signals, (1.0 - self.rates) * self.averages + self.rates * signals)
-        return float(self.levels[0]), float(self.levels[1])
+        x[width:LAGS * width] = x[:(LAGS - 1) * width].copy()
+        x[:width] = inputs
+        self.seen += 1
+        signals = self.signals()
+        if self.seen > 3:  # every signal defined: the averages' step in place
+            self.averages *= 1.0 - self.rates
+            self.averages += self.rates * signals
+        else:
+            self.averages = np.where(np.isnan(self.averages), signals, (1.0 - self.rates) * self.averages
+                                     + self.rates * signals)
+        return self.levels[0], self.levels[1]
+
+    def signals(self) -> np.ndarray:
+        """`vigour_signals` of the newest sample, from the last three held in the features."""
+        x, w = self.features, self.width
+        out = np.full(VIGOURS, np.nan)
+        newest, before, earlier = x[:w], x[w:2 * w], x[2 * w:3 * w]
+        if self.seen >= 2:
+            first = newest[self.felt] - before[self.felt]
+            out[1] = first @ first / len(first)
+        if self.seen >= 3:
+            second = (newest - before) - (before - earlier)
+            felt, command = second[self.felt], second[self.command]
+            out[0] = felt @ felt / len(felt)
+            out[2] = command @ command / len(command) if len(command) else 0.0
+        return out

@@ -74,8 +74,10 @@ class CaseScorer:
         frame with the IoU a calibrated predictor of its spread would see there; the frames' surprise."""
         from softarm.model.answers import PRIVILEGED, score_answers, score_node_ridge
         from softarm.model.autoencoder import encode_frames
+        from softarm.record.reader import read_model
 
-        reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing)
+        touches = any(d.get("kind") == "obstacle" for d in read_model(case.path).get("disturbances", []))
+        reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing, nodes=touches)
         imaginer = self.model.imaginer
         windows, targets = imaginer.windows(reading.inputs)
         truth = reading.recording.frames[targets]
@@ -90,8 +92,10 @@ class CaseScorer:
         methods = {trust.name: (trust.confidence(prediction), trust.reference_iou(prediction, imaginer.decode, rng))
                    for trust in self.ways if trust.available(prediction)}
         surprise = prediction.surprise if prediction.surprise is not None else np.full(len(targets), np.nan)
+        free = np.ones(len(rec.model["masses"]), bool)
+        free[rec.model["driven"]] = False
         return scores, methods, case_surprise(case.family, surprise, targets, rec.times, rec.active,
-                                              rec.model.get("disturbances", []))
+                                              rec.model.get("disturbances", []), rec.positions if touches else None, free)
 
 
 def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, Any]:

@@ -24,16 +24,20 @@ NOISY = ("sensor_noise",)  # undisturbed families whose sensors differ from the 
 @dataclass(frozen=True)
 class CaseSurprise:
     """One recording's surprise at its imagined frames, which of them a disturbance acts on, and the
-    disturbances' first and past-the-last imagined frame indices."""
+    disturbances' first and past-the-last imagined frame indices; where an obstacle stands, which frames the arm
+    touches it in (the recording's label says the obstacle is there, not that the arm feels it)."""
     family: str
     surprise: np.ndarray             # (M,)
     active: np.ndarray               # (M,) bool
     onsets: list[tuple[int, int]]    # [start, end) positions into the M frames, one per disturbance
+    touching: Optional[np.ndarray] = None  # (M,) bool, for a recording with an obstacle and its nodes
 
 
 def case_surprise(family: str, surprise: np.ndarray, targets: np.ndarray, times: np.ndarray, active: np.ndarray,
-                  disturbances: list[dict[str, Any]]) -> CaseSurprise:
-    """`active` (T, D) as the recording gives it; `targets` (M,) the imagined frames."""
+                  disturbances: list[dict[str, Any]], positions: Optional[np.ndarray] = None,
+                  free: Optional[np.ndarray] = None) -> CaseSurprise:
+    """`active` (T, D) as the recording gives it; `targets` (M,) the imagined frames; `positions` (T, N, 2) and
+    `free` (N,) bool, where given, mark the frames in which a free node is inside an active obstacle."""
     onsets = []
     for d in disturbances:
         start = int(np.searchsorted(times[targets], float(d["start"]) - 1e-9))
@@ -41,7 +45,14 @@ def case_surprise(family: str, surprise: np.ndarray, targets: np.ndarray, times:
         if end > start:
             onsets.append((start, end))
     label = active[targets].any(axis=1) if active.size else np.zeros(len(targets), bool)
-    return CaseSurprise(family, surprise, label, onsets)
+    obstacles = [(n, d) for n, d in enumerate(disturbances) if d["kind"] == "obstacle"]
+    touching = None
+    if obstacles and positions is not None:
+        touching = np.zeros(len(targets), bool)
+        for n, d in obstacles:
+            gap = np.linalg.norm(positions[targets][:, free] - np.asarray(d["centre"]), axis=2)
+            touching |= active[targets, n] & (gap < float(d["radius"])).any(axis=1)
+    return CaseSurprise(family, surprise, label, onsets, touching)
 
 
 def surprise_report(cases: list[CaseSurprise], own_threshold: float, frame_dt: float) -> Optional[dict[str, Any]]:
@@ -59,13 +70,25 @@ def surprise_report(cases: list[CaseSurprise], own_threshold: float, frame_dt: f
         finite = np.isfinite(score)
         families[family] = {"auroc": auroc(score[finite], label[finite]), "disturbances": sum(len(c.onsets) for c in mine),
                             **latencies(mine, suite_threshold, frame_dt, "suite"),
-                            **latencies(mine, own_threshold, frame_dt, "own")}
+                            **latencies(mine, own_threshold, frame_dt, "own"), **touch_scores(mine, negatives)}
     return {"families": families, "thresholds": {"suite": suite_threshold, "own": own_threshold},
             "false_alarms_per_minute": {"suite": alarm_rate(calm, suite_threshold, frame_dt),
                                         "own": alarm_rate(calm, own_threshold, frame_dt),
                                         **{f"own_{f}": alarm_rate([c for c in cases if c.family == f], own_threshold, frame_dt)
                                            for f in NOISY if any(c.family == f for c in cases)}},
             "per_minute_goal": PER_MINUTE}
+
+
+def touch_scores(cases: list[CaseSurprise], negatives: np.ndarray) -> dict[str, float]:
+    """Where the family's recordings mark touches: the AUROC against the frames the arm touches (the rest of the
+    family's frames and the undisturbed families' as negatives), and the share of frames touching."""
+    if not cases or any(c.touching is None for c in cases):
+        return {}
+    score = np.concatenate([*(c.surprise for c in cases), negatives])
+    label = np.concatenate([*(c.touching for c in cases), np.zeros(len(negatives), bool)])
+    finite = np.isfinite(score)
+    return {"auroc_touching": auroc(score[finite], label[finite]),
+            "touching_share": float(np.mean(np.concatenate([c.touching for c in cases])))}
 
 
 def latencies(cases: list[CaseSurprise], threshold: float, frame_dt: float, name: str) -> dict[str, float]:

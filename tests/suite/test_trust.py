@@ -42,3 +42,23 @@ def test_the_calibrated_reference_sees_what_its_spread_implies():
 
     assert (reference(1e-12) == 1).all()
     assert reference(1.0).mean() < reference(0.01).mean() < 1
+
+
+def test_an_obstacle_marks_the_frames_a_free_node_is_inside_it():
+    """Two nodes, the first driven: the free one crosses a disc of radius 0.1 at the origin while x < 0.1."""
+    from softarm.suite.surprise import case_surprise, surprise_report
+
+    t = np.arange(100) * 0.01
+    positions = np.zeros((100, 2, 2))
+    positions[:, 1, 0] = np.linspace(-0.5, 0.5, 100)
+    positions[:, 0] = 0.0  # the driven node sits inside the disc and must not count
+    obstacle = {"kind": "obstacle", "start": 0.0, "end": None, "centre": [0.0, 0.0], "radius": 0.1}
+    free = np.array([False, True])
+    targets = np.arange(5, 100)
+    surprise = np.where(np.abs(positions[targets, 1, 0]) < 0.1, 5.0, 1.0)
+    case = case_surprise("contact", surprise, targets, t, np.ones((100, 1), bool), [obstacle], positions, free)
+    np.testing.assert_array_equal(case.touching, np.abs(positions[targets, 1, 0]) < 0.1)
+    assert case.active.all() and case.touching.sum() == 20
+    calm = case_surprise("multisine_low", np.ones(95), targets, t, np.zeros((100, 0), bool), [])
+    row = surprise_report([case, calm], 3.0, 0.01)["families"]["contact"]
+    assert row["auroc_touching"] == 1.0 and row["touching_share"] == 20 / 95 and row["auroc"] < 1.0
