@@ -21,7 +21,6 @@ from dataclasses import dataclass
 from typing import Any, Optional
 
 import numpy as np
-from scipy.signal import lfilter
 
 from softarm.model.memory_check import MemoryCheck
 
@@ -113,15 +112,21 @@ def vigour(inputs: np.ndarray, felt: tuple[int, ...], command: tuple[int, ...]) 
     """(T, VIGOURS * len(WINDOWS) + 1) the log vigour after each sample, with a constant: each signal's
     exponential average over each window, started at its first value (NaN before it)."""
     signals = vigour_signals(inputs, felt, command)
-    columns = []
-    for window in WINDOWS:
-        a = 1.0 / window
-        for s, first in zip(signals.T, FIRST):
-            average = np.full(len(s), np.nan)
-            if len(s) > first:
-                average[first:] = lfilter([a], [1.0, a - 1.0], s[first:], zi=[(1.0 - a) * s[first]])[0]
-            columns.append(np.log(average + FLOOR))
+    columns = [np.log(averaged(s, 1.0 / window, first) + FLOOR) for window in WINDOWS for s, first in zip(signals.T, FIRST)]
     return np.column_stack([*columns, np.ones(len(inputs))])
+
+
+def averaged(signal: np.ndarray, rate: float, first: int) -> np.ndarray:
+    """The exponential average level <- (1 - rate) level + rate x of `signal` (T,) from its sample `first` on
+    (NaN before), computed as the streamer does, sample by sample."""
+    out = [float("nan")] * min(first, len(signal))
+    if len(signal) > first:
+        level, keep = float(signal[first]), 1.0 - rate
+        out.append(level)
+        for value in signal[first + 1:].tolist():
+            level = keep * level + rate * value
+            out.append(level)
+    return np.asarray(out)
 
 
 def smoothed(values: np.ndarray) -> np.ndarray:
