@@ -68,7 +68,7 @@ def _surprise(value: Any) -> bool:
         memory = torch.tensor(memory["weights"], dtype=torch.float64), torch.tensor(memory["scale"], dtype=torch.float64)
     except (KeyError, IndexError, TypeError, ValueError, RuntimeError, OverflowError):
         return False
-    return (all(w.ndim == 2 and w.shape[1] == len(s) == len(felt) > 0 and w.shape[0] > len(command)
+    return (all(w.ndim == 2 and s.ndim == 1 and w.shape[1] == len(s) == len(felt) > 0 and w.shape[0] > len(command)
                 and bool(torch.isfinite(w).all() and (s > 0).all()) for w, s in ((weights, scale), memory))
             and spread.ndim == 1 and bool(torch.isfinite(spread).all()) and threshold == threshold
             and all(_count(i) for i in felt + command))

@@ -20,7 +20,7 @@ from softarm.model.latent import LatentModel
 from softarm.model.prediction import Prediction, joined_members
 from softarm.model.registry import latent_model_class, trust_class
 from softarm.model.scaler import Scaler
-from softarm.model.surprise import LAGS, SurpriseModel
+from softarm.model.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel
 from softarm.model.trust import ErrorHeadTrust, Trust
 from softarm.model.windows import input_windows
 
@@ -117,10 +117,17 @@ def surprise_of(state: dict[str, Any], features: int, hidden: int) -> Optional[S
     if not SurpriseModel.current(state["surprise"]):
         raise CheckpointError("the checkpoint's surprise model is of an earlier softarm: refit it (and the "
                               "calibrated confidence) with `softarm train RECORDINGS --out CHECKPOINT --resume`")
-    surprise = SurpriseModel.from_state(state["surprise"])
+    try:
+        surprise = SurpriseModel.from_state(state["surprise"])
+    except (KeyError, TypeError, ValueError):
+        raise CheckpointError("the checkpoint's surprise model is damaged: refit it with `softarm train RECORDINGS "
+                              "--out CHECKPOINT --resume`") from None
     memory = surprise.memory
     if (surprise.weights.shape[0] != LAGS * features + len(surprise.command) + 1
-            or memory is not None and memory.weights.shape != (hidden + len(surprise.command) + 1, len(surprise.felt))):
+            or len(surprise.spread) != VIGOURS * len(WINDOWS) + 1
+            or max(surprise.felt + surprise.command) >= features
+            or memory is not None and (memory.weights.shape != (hidden + len(surprise.command) + 1, len(surprise.felt))
+                                       or memory.scale.shape != surprise.scale.shape)):
         raise CheckpointError("the checkpoint's surprise model does not fit its inputs: train it again")
     return surprise
 

@@ -88,8 +88,9 @@ class SurpriseModel:
     @staticmethod
     def current(state: dict[str, Any]) -> bool:
         """Whether a checkpoint's surprise state is this softarm's kind (earlier ones read the latent state)."""
-        return (state.get("kind") == "lagged" and state.get("lags") == LAGS and state.get("windows") == list(WINDOWS)
-                and state.get("smoothing") == SMOOTHING)
+        settings = [state.get(key) for key in ("kind", "lags", "windows", "smoothing")]
+        plain = all(isinstance(value, (str, int, float, list)) for value in settings)
+        return plain and settings == ["lagged", LAGS, list(WINDOWS), SMOOTHING]
 
 
 FIRST = np.array([2, 1, 2])  # the first sample at which each vigour signal is defined
