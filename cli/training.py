@@ -69,7 +69,7 @@ def adapt(
     force: Force = False,
     quiet: Quiet = False,
 ) -> None:
-    """Learn a changed body from a few seconds of camera: refit the latent model's head (and the surprise's
+    """Learn a changed body from a few seconds of camera: fine-tune the latent model (and refit the surprise's
     forward model) on them, then imagine the rest of the recording with the camera off, before and after.
 
     \b

@@ -27,11 +27,11 @@ class AdaptResult:
 
 def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLike, start: Optional[float] = None,
           force: bool = False) -> AdaptResult:
-    """Fit the latent heads to `seconds` of `recording`'s camera from `start` and save the result in `out`."""
+    """Fine-tune the latent models to `seconds` of `recording`'s camera from `start` and save the result in `out`."""
     if not (np.isfinite(seconds) and seconds > 0):
         raise ConfigError(f"--seconds {seconds:g}: give a finite, positive number of seconds of camera")
     check_outputs([Path(out)], force, inputs=[checkpoint, recording])
-    from softarm.learn.adapt import Window, adapt_heads
+    from softarm.learn.adapt import Window, adapt_models
     from softarm.model.checkpoint import save_checkpoint
     from softarm.model.metrics import iou_per_frame
     from softarm.model.trained import TrainedModel
@@ -46,7 +46,7 @@ def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLi
         raise RecordingError(f"{rec.path}: {seconds:g} s of camera from {rec.times[begin]:.2f} s reach past its end "
                              f"({rec.times[-1]:.2f} s); give fewer --seconds or an earlier --from")
     clock = time.perf_counter()
-    adapted = adapt_heads(imaginer, Window(begin, end, imaginer.normalised(reading.inputs).astype(np.float64), rec.frames))
+    adapted = adapt_models(imaginer, Window(begin, end, imaginer.normalised(reading.inputs).astype(np.float64), rec.frames))
     took = time.perf_counter() - clock
     after = adapted.predict(reading.inputs)
     rest = (before.targets >= end) & rec.seen[before.targets]

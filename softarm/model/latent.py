@@ -113,6 +113,11 @@ class LatentModel(nn.Module):
     def online(self) -> OnlineReader:
         raise NotImplementedError
 
+    def latents_at(self, series: torch.Tensor, samples: torch.Tensor) -> torch.Tensor:
+        """(M, K) the latent answers read after `samples` (M,) of one normalised series (T, P), with gradients:
+        what adaptation fine-tunes."""
+        raise NotImplementedError
+
     def states(self, series: np.ndarray) -> np.ndarray:
         """(T, H) float64: the recurrent state the answer after each sample of a normalised series (T, P) reads;
         NaN where the model has none yet. The surprise's memory check (`softarm.model.memory_check`) and adaptation

@@ -53,6 +53,9 @@ class StreamModel(LatentModel):
     def online(self) -> OnlineReader:
         return StreamReader(self)
 
+    def latents_at(self, series: torch.Tensor, samples: torch.Tensor) -> torch.Tensor:
+        return self.head(self.rnn(series[None])[0][0, samples])
+
     @torch.inference_mode()
     def states(self, series: np.ndarray) -> np.ndarray:
         return self.rnn(torch.from_numpy(series[None]))[0][0].double().numpy()

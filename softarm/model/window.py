@@ -44,6 +44,10 @@ class WindowLSTM(LatentModel):
     def online(self) -> OnlineReader:
         return WindowReader(self)
 
+    def latents_at(self, series: torch.Tensor, samples: torch.Tensor) -> torch.Tensor:
+        windows = series[samples[:, None] - self.history + 1 + torch.arange(self.history)]
+        return self(windows)[0]
+
     @torch.inference_mode()
     def states(self, series: np.ndarray) -> np.ndarray:
         """The last state of the window that ends at each sample."""

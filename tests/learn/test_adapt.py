@@ -1,8 +1,10 @@
-"""`softarm adapt`: the head's ridge toward the trained weights against a least-squares reference, the adapted
-checkpoint fits the camera's frames better than before, and what cannot be done is refused in one line."""
+"""`softarm adapt`: the surprise's ridge toward the trained weights against a least-squares reference, what
+fine-tuning differentiates equals each model's own answers, the adapted checkpoint fits the camera's frames
+better than before, and what cannot be done is refused in one line."""
 
 import numpy as np
 import pytest
+import torch
 
 from softarm.config import load_config
 from softarm.learn.adapt import ridge_toward
@@ -43,6 +45,17 @@ def latent_error(checkpoint, recording, frames):
     chosen = np.isin(prediction.targets, frames)
     truth = model.imaginer.latent_scaler.forward(encode_frames(model.imaginer.autoencoder, reading.recording.frames[frames]))
     return float(np.mean((prediction.latents[chosen] - truth) ** 2))
+
+
+@pytest.mark.parametrize("fixture", ["tiny_window_checkpoint", "tiny_checkpoint"])
+def test_the_latents_fine_tuning_differentiates_are_the_models_answers(loaded, fixture, request):
+    model = TrainedModel(request.getfixturevalue(fixture).checkpoint)
+    latent = model.imaginer.latent
+    series = model.imaginer.normalised(model.read(loaded).inputs)
+    prediction = latent.answer([series])[0]
+    with torch.no_grad():
+        at = latent.latents_at(torch.from_numpy(series), torch.from_numpy(prediction.targets[::37] - latent.lead))
+    np.testing.assert_allclose(at.numpy(), prediction.latents[::37], atol=1e-5)
 
 
 def test_adapt_fits_the_seconds_of_camera_and_reports_the_rest(loaded, tiny_checkpoint, tmp_path):
