@@ -14,10 +14,11 @@ import numpy as np
 
 from softarm.learn.train_state import TrainState
 from softarm.model.alarm import alarm_threshold
-from softarm.model.memory_check import fit_memory_check
+from softarm.model.memory_check import MemoryCheck
 from softarm.model.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel, vigour
 
 RIDGE = 1e-8          # the forward model's L2 penalty, relative to its mean squared feature
+MEMORY_RIDGE = 1e-4   # the memory check's, the same way
 SPREAD_RIDGE = 1e-6   # the spread map's L2 penalty per sample
 SPREAD_FLOOR = 1e-3   # added to a squared residual before its logarithm
 
@@ -67,6 +68,23 @@ def fit_surprise(parts: Sequence[Part], felt: Sequence[int], command: Sequence[i
     model = SurpriseModel(weights, scale, spread, 0.0, felt, command)
     threshold = alarm_threshold([(model.series(x)[0], c) for x, c in calibration], frame_dt, false_alarms_per_minute)
     return SurpriseModel(weights, scale, spread, threshold, felt, command)
+
+
+def fit_memory_check(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], felt: Sequence[int],
+                     command: Sequence[int], calibration: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]]
+                     ) -> MemoryCheck:
+    """Ridge regression on `parts` (states (T, H), normalised inputs (T, F), undisturbed (T,) bool), each sensor's
+    spread on `calibration` parts; samples next to a disturbance or without a state are left out."""
+    probe = MemoryCheck(np.zeros(0), np.ones(len(felt)), tuple(felt), tuple(command))
+    weights = _ridge([(probe.features(s[:-1], x[1:]), x[1:, list(felt)], c[1:] & c[:-1]) for s, x, c in parts],
+                     MEMORY_RIDGE, unshrunk=-1)
+    errors = []
+    for states, inputs, calm in calibration:
+        expected = probe.features(states[:-1], inputs[1:]) @ weights
+        keep = calm[1:] & calm[:-1] & np.isfinite(expected).all(axis=1)
+        errors.append((inputs[1:, list(felt)] - expected)[keep])
+    scale = np.maximum(np.sqrt(np.mean(np.concatenate(errors) ** 2, axis=0)), 1e-12)
+    return MemoryCheck(weights, scale, tuple(felt), tuple(command))
 
 
 def _ratio(model: SurpriseModel, inputs: np.ndarray, calm: np.ndarray) -> np.ndarray:

@@ -9,11 +9,9 @@ surprise, `softarm.model.surprise`, divides that out).
 """
 
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
-
-RIDGE = 1e-4   # the map's L2 penalty, relative to its mean squared feature
 
 
 @dataclass(frozen=True)
@@ -48,26 +46,3 @@ class MemoryCheck:
     def from_state(cls, state: dict[str, Any], felt: tuple[int, ...], command: tuple[int, ...]) -> "MemoryCheck":
         return cls(np.asarray(state["weights"], np.float64), np.asarray(state["scale"], np.float64), felt, command)
 
-
-def fit_memory_check(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], felt: Sequence[int],
-                     command: Sequence[int], calibration: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]]
-                     ) -> MemoryCheck:
-    """Ridge regression on `parts` (states (T, H), normalised inputs (T, F), undisturbed (T,) bool), each sensor's
-    spread on `calibration` parts; samples next to a disturbance or without a state are left out."""
-    probe = MemoryCheck(np.zeros(0), np.ones(len(felt)), tuple(felt), tuple(command))
-    x, y = [], []
-    for states, inputs, calm in parts:
-        keep = calm[1:] & calm[:-1] & np.isfinite(states[:-1]).all(axis=1)
-        x.append(probe.features(states[:-1], inputs[1:])[keep])
-        y.append(inputs[1:, list(felt)][keep])
-    x, y = np.concatenate(x), np.concatenate(y)
-    penalty = RIDGE * np.mean(x ** 2) * len(x) * np.eye(x.shape[1])
-    penalty[-1, -1] = 0.0  # the constant is not shrunk
-    weights = np.linalg.solve(x.T @ x + penalty, x.T @ y)
-    errors = []
-    for states, inputs, calm in calibration:
-        expected = probe.features(states[:-1], inputs[1:]) @ weights
-        keep = calm[1:] & calm[:-1] & np.isfinite(expected).all(axis=1)
-        errors.append((inputs[1:, list(felt)] - expected)[keep])
-    scale = np.maximum(np.sqrt(np.mean(np.concatenate(errors) ** 2, axis=0)), 1e-12)
-    return MemoryCheck(weights, scale, tuple(felt), tuple(command))
