@@ -1,10 +1,12 @@
-"""The arithmetic a training runs in: bf16 autocast where the CPU computes bf16 natively, fp32 elsewhere.
+"""The arithmetic a training step runs in: fp32, or bf16 autocast.
 
-`bench/training.py` measured the choice on this project's 2-core machines (AVX-512 BF16): the autoencoder's
-step 1.2-1.5x and the stream LSTM's 1.2-1.8x faster under bf16 autocast (between runs), while channels-last
-convolutions and `torch.compile` paid back less or nothing. Autocast keeps the weights, the optimiser and the losses in fp32
-(PyTorch's autocast lists), so only the matrix products and convolutions of the forward pass round to bf16;
-the trained networks answer in fp32 like any other.
+Which is faster depends on the chip, not on its flags, so `train.precision = "auto"` is settled by measuring
+both at the start of a run (`softarm.learn.step_times.fastest_precision`) and the checkpoint keeps the choice.
+`bench/training.py` measured: bf16 autocast 1.2x faster for both networks on an AMD EPYC with AVX-512 BF16,
+and on an Intel Xeon with the same flags (no AMX) no faster for the autoencoder (0.99x) and slower for the
+stream LSTM (0.68x). Autocast keeps the weights, the optimiser and the losses in fp32 (PyTorch's autocast
+lists), so only the matrix products and convolutions of the forward pass round to bf16; the trained networks
+answer in fp32 like any other.
 """
 
 import contextlib
@@ -18,15 +20,11 @@ def cpu_has_bf16() -> bool:
     return bool(torch.backends.mkldnn.is_available() and torch.ops.mkldnn._is_mkldnn_bf16_supported())
 
 
-def resolved(precision: str) -> str:
-    """"auto" as this machine answers it: "bf16" where the CPU has it, "fp32" elsewhere."""
-    if precision == "auto":
-        return "bf16" if cpu_has_bf16() else "fp32"
-    return precision
-
-
 def forward_precision(precision: str) -> ContextManager:
-    """The context a training step's forward pass (and loss) runs in; the backward pass runs outside it."""
-    if resolved(precision) == "bf16":
+    """The context a training step's forward pass (and loss) runs in, for "fp32" or "bf16" ("auto" is settled
+    before training starts); the backward pass runs outside it."""
+    if precision == "bf16":
         return torch.autocast("cpu", dtype=torch.bfloat16)
-    return contextlib.nullcontext()
+    if precision == "fp32":
+        return contextlib.nullcontext()
+    raise ValueError(f"precision {precision!r}: settle 'auto' with step_times.fastest_precision first")

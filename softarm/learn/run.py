@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Optional, Sequence, Union
 
-from softarm.config import Config, load_config
+from softarm.config import Config, load_config, override
 from softarm.corpus.manifest import folder_recordings
 from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingError
 from softarm.files import check_outputs, claimed, made_folders, write_json
@@ -126,6 +126,10 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
         metrics_path_for(out).unlink(missing_ok=True)  # it described the checkpoint this run replaces
     with frame_cache(out, len(recordings) > 1) as cache:
         state = start_state(recordings, config, out, resume, cache, stop)
+        if state.config.train.precision == "auto":  # chosen once, by measuring; the checkpoint keeps the choice
+            from softarm.learn.step_times import fastest_precision
+
+            state.config = override(state.config, {"train.precision": fastest_precision(state)})
         if minutes is not None and resume:
             warnings.warn(f"--minutes {minutes:g} is ignored with --resume: the saved run keeps its own schedule",
                           stacklevel=3)

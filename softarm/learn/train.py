@@ -18,7 +18,7 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
-from softarm.learn.evaluate import held_out_mse, imaginer_of
+from softarm.learn.evaluate import MAX_SCORED, evenly, held_out_mse, imaginer_of
 from softarm.learn.observer import NoObserver, Progress, TrainingObserver
 from softarm.learn.precision import forward_precision
 from softarm.learn.train_state import TrainState
@@ -88,6 +88,7 @@ def fit_autoencoder(state: TrainState, schedule: "Schedule", out: Path, observer
     t = state.config.train
     frames = torch.from_numpy(state.data.frames("train"))  # uint8: a batch becomes float only when used
     test = state.data.frames("test")
+    test = test[evenly(len(test), MAX_SCORED)]  # a corpus's held-out loss costs what one recording's does
 
     def ae_step(index: torch.Tensor) -> StepLoss:
         x = frames[index].float()

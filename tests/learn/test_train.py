@@ -103,13 +103,14 @@ def test_resume_warns_that_changed_settings_are_ignored(recordings, tiny_checkpo
 
 def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_the_checkpoint(
         recordings, tmp_path, monkeypatch):
-    from softarm.learn import budget
+    from softarm.learn import budget, step_times
     from softarm.learn.train import schedules
     from softarm.learn.train_state import start_state
 
-    config = load_config(overrides={**TINY, "train.epochs_ae": 400, "train.epochs_lstm": 4000})  # hours of work
-    monkeypatch.setattr(budget, "_autoencoder_step", lambda state: 0.01)  # measured step times, fixed here
-    monkeypatch.setattr(budget, "_latent_step", lambda state: 0.001)
+    config = load_config(overrides={**TINY, "train.epochs_ae": 400, "train.epochs_lstm": 4000,  # hours of work
+                                    "train.precision": "fp32"})
+    monkeypatch.setattr(step_times, "autoencoder_step", lambda state, precision: 0.01)  # measured step times, fixed
+    monkeypatch.setattr(step_times, "latent_step", lambda state, precision: 0.001)
     state = start_state([recordings / "s0.mcap"], config, tmp_path / "x.pt", resume=False)
     ae, lstm = schedules(state)
     budget.fit_to_minutes(state, minutes=1.0, spent=6.0)

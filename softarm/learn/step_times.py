@@ -1,0 +1,70 @@
+"""Seconds per optimisation step of each network, measured here on batches of the real shapes: what `--minutes`
+sizes the schedules by, and what `train.precision = "auto"` chooses the arithmetic by.
+
+A few forward and backward passes (no optimiser step, the weights and batch statistics restored after), so the
+run itself is unchanged by being measured.
+"""
+
+import copy
+import time
+from typing import Callable
+
+import torch
+import torch.nn.functional as F
+
+from softarm.learn.precision import cpu_has_bf16, forward_precision
+from softarm.learn.train import schedules
+from softarm.learn.train_state import TrainState
+from softarm.model.registry import latent_model_class
+
+PROBE_STEPS = 3
+BF16_MARGIN = 1.05  # how much faster bf16 must train to be chosen
+
+
+def seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor], precision: str) -> float:
+    """Seconds of one forward and backward pass, the forward in `precision`; the model's weights and statistics
+    are left as they were."""
+    saved = copy.deepcopy(model.state_dict())  # batch normalisation updates its running statistics in training mode
+    model.train()
+
+    def step() -> None:
+        with forward_precision(precision):
+            value = loss()
+        value.backward()
+
+    step()  # warm up
+    start = time.perf_counter()
+    for _ in range(PROBE_STEPS):
+        step()
+    seconds = (time.perf_counter() - start) / PROBE_STEPS
+    model.zero_grad(set_to_none=True)
+    model.load_state_dict(saved)
+    return seconds
+
+
+def autoencoder_step(state: TrainState, precision: str) -> float:
+    frames = torch.from_numpy(state.data.frames("train")[:state.config.train.batch_ae]).float()
+    loss = lambda: F.binary_cross_entropy_with_logits(state.autoencoder(frames), frames)  # noqa: E731
+    return seconds_per_step(state.autoencoder, loss, precision)
+
+
+def latent_step(state: TrainState, precision: str) -> float:
+    """A stand-in of the latent model's size, on a dummy batch of its real training shape."""
+    t, features = state.config.train, sum(state.data.widths)
+    model = latent_model_class(t.model)
+    network = model(features, t.latent, t)
+    batch = model.dummy_batch(t, features)
+    return seconds_per_step(network, lambda: network(batch)[0].float().square().mean(), precision)
+
+
+def fastest_precision(state: TrainState) -> str:
+    """"fp32" or "bf16", whichever trains this run's schedules faster on this machine, measured: whether bf16
+    autocast pays depends on the chip, not on its flags (bench/training.py: 1.2x on an AMD EPYC with AVX-512 BF16,
+    0.7-1.0x on an Intel Xeon with the same flags and no AMX). bf16 must win by BF16_MARGIN, so that
+    measurement noise does not trade fp32's exact arithmetic for nothing; without native bf16 it is not tried."""
+    if not cpu_has_bf16():
+        return "fp32"
+    ae, latent = schedules(state)
+    seconds = {precision: ae.total * autoencoder_step(state, precision) + latent.total * latent_step(state, precision)
+               for precision in ("fp32", "bf16")}
+    return "bf16" if seconds["bf16"] * BF16_MARGIN < seconds["fp32"] else "fp32"
