@@ -1,5 +1,6 @@
 """Training throughput: optimisation steps per second of the autoencoder and of the latent model at the default
-settings, for each way of running them on this CPU, as ratios to the default fp32 path measured in the same run.
+settings, for each way of running them on this CPU, as ratios to the fp32 path with softarm's fused Adam measured
+in the same run ("unfused Adam" is the optimiser of the releases before it).
 
     python -m bench.training [--steps N] [--repeats R] [--variants fp32 channels_last bf16 ...]
 
@@ -12,7 +13,7 @@ import argparse
 import contextlib
 import statistics
 import time
-from typing import Callable
+from typing import Callable, Iterable
 
 import numpy as np
 import torch
@@ -20,6 +21,7 @@ import torch.nn.functional as F
 
 from softarm.config import load_config
 from softarm.learn.precision import cpu_has_bf16
+from softarm.learn.train_state import adam
 from softarm.model.autoencoder import Autoencoder
 from softarm.model.registry import latent_model_class
 
@@ -32,11 +34,16 @@ def frames(batch: int) -> torch.Tensor:
     return torch.from_numpy((rng.random((batch, CONFIG.camera.height, CONFIG.camera.width)) > 0.85).astype(np.uint8))
 
 
-def autoencoder_step(memory_format: torch.memory_format, autocast: bool, compiled: bool) -> Callable[[], None]:
+def optimiser_of(parameters: Iterable[torch.nn.Parameter], lr: float, fused: bool) -> torch.optim.Optimizer:
+    return adam(parameters, lr) if fused else torch.optim.Adam(parameters, lr=lr)
+
+
+def autoencoder_step(memory_format: torch.memory_format, autocast: bool, compiled: bool,
+                     fused: bool = True) -> Callable[[], None]:
     """One step of the autoencoder's training loop (Adam, BCE on logits), as `softarm.learn.train` takes it."""
     torch.manual_seed(0)
     net = Autoencoder(CONFIG.camera.height, CONFIG.camera.width, T.latent).to(memory_format=memory_format).train()
-    optimiser = torch.optim.Adam(net.parameters(), lr=T.lr_ae)
+    optimiser = optimiser_of(net.parameters(), T.lr_ae, fused)
     forward = torch.compile(net) if compiled else net
     batch = frames(T.batch_ae).float()
 
@@ -50,11 +57,11 @@ def autoencoder_step(memory_format: torch.memory_format, autocast: bool, compile
     return step
 
 
-def latent_step(autocast: bool, compiled: bool) -> Callable[[], None]:
+def latent_step(autocast: bool, compiled: bool, fused: bool = True) -> Callable[[], None]:
     """One chunk step of the default latent model: `streams` stretches of `sequence` samples."""
     torch.manual_seed(0)
     model = latent_model_class(T.model)(5, T.latent, T).train()
-    optimiser = torch.optim.Adam(model.parameters(), lr=T.lr_lstm)
+    optimiser = optimiser_of(model.parameters(), T.lr_lstm, fused)
     forward = torch.compile(model) if compiled else model
     x, y = torch.randn(T.streams, T.sequence, 5), torch.randn(T.streams, T.sequence, T.latent)
 
@@ -71,6 +78,8 @@ def latent_step(autocast: bool, compiled: bool) -> Callable[[], None]:
 
 VARIANTS: dict[str, tuple[Callable[[], Callable[[], None]], Callable[[], Callable[[], None]]]] = {
     "fp32": (lambda: autoencoder_step(torch.contiguous_format, False, False), lambda: latent_step(False, False)),
+    "fp32, unfused Adam": (lambda: autoencoder_step(torch.contiguous_format, False, False, fused=False),
+                           lambda: latent_step(False, False, fused=False)),
     "channels_last": (lambda: autoencoder_step(torch.channels_last, False, False), lambda: latent_step(False, False)),
     "bf16": (lambda: autoencoder_step(torch.contiguous_format, True, False), lambda: latent_step(True, False)),
     "bf16 + channels_last": (lambda: autoencoder_step(torch.channels_last, True, False), lambda: latent_step(True, False)),

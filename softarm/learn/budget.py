@@ -22,7 +22,8 @@ def fit_to_minutes(state: TrainState, minutes: float, spent: float) -> None:
     seconds of which are gone already (loading the data)."""
     ae, latent = schedules(state)
     precision = state.config.train.precision
-    ae_step, latent_step = step_times.autoencoder_step(state, precision), step_times.latent_step(state, precision)
+    ae_step = step_times.autoencoder_steps(state, (precision,))[precision]
+    latent_step = step_times.latent_steps(state, (precision,))[precision]
     budget = minutes * 60 * (1 - RESERVE) - spent
     scale = min(1.0, max(budget, 0.0) / (ae.total * ae_step + latent.total * latent_step))
     state.config = override(state.config, {"train.max_steps_ae": max(1, math.floor(ae.total * scale)),

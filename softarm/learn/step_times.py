@@ -6,8 +6,9 @@ run itself is unchanged by being measured.
 """
 
 import copy
+import statistics
 import time
-from typing import Callable
+from typing import Callable, Sequence
 
 import torch
 import torch.nn.functional as F
@@ -17,54 +18,57 @@ from softarm.learn.train import schedules
 from softarm.learn.train_state import TrainState
 from softarm.model.registry import latent_model_class
 
-PROBE_STEPS = 3
+ROUNDS = 5  # timed steps of each precision, taken in turns
 BF16_MARGIN = 1.05  # how much faster bf16 must train to be chosen
 
 
-def seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor], precision: str) -> float:
-    """Seconds of one forward and backward pass, the forward in `precision`; the model's weights and statistics
-    are left as they were."""
+def seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor],
+                     precisions: Sequence[str]) -> dict[str, float]:
+    """Median seconds of one forward and backward pass in each precision, the precisions taking turns (a shared
+    machine's drift falls on all alike); the model's weights and statistics are left as they were."""
     saved = copy.deepcopy(model.state_dict())  # batch normalisation updates its running statistics in training mode
     model.train()
 
-    def step() -> None:
+    def step(precision: str) -> float:
+        start = time.perf_counter()
         with forward_precision(precision):
             value = loss()
         value.backward()
+        return time.perf_counter() - start
 
-    step()  # warm up
-    start = time.perf_counter()
-    for _ in range(PROBE_STEPS):
-        step()
-    seconds = (time.perf_counter() - start) / PROBE_STEPS
+    for precision in precisions:
+        step(precision)  # warm up
+    times = [[step(precision) for precision in precisions] for _ in range(ROUNDS)]
     model.zero_grad(set_to_none=True)
     model.load_state_dict(saved)
-    return seconds
+    return {precision: statistics.median(column) for precision, column in zip(precisions, zip(*times))}
 
 
-def autoencoder_step(state: TrainState, precision: str) -> float:
+def autoencoder_steps(state: TrainState, precisions: Sequence[str]) -> dict[str, float]:
     frames = torch.from_numpy(state.data.frames("train")[:state.config.train.batch_ae]).float()
     loss = lambda: F.binary_cross_entropy_with_logits(state.autoencoder(frames), frames)  # noqa: E731
-    return seconds_per_step(state.autoencoder, loss, precision)
+    return seconds_per_step(state.autoencoder, loss, precisions)
 
 
-def latent_step(state: TrainState, precision: str) -> float:
+def latent_steps(state: TrainState, precisions: Sequence[str]) -> dict[str, float]:
     """A stand-in of the latent model's size, on a dummy batch of its real training shape."""
     t, features = state.config.train, sum(state.data.widths)
     model = latent_model_class(t.model)
     network = model(features, t.latent, t)
     batch = model.dummy_batch(t, features)
-    return seconds_per_step(network, lambda: network(batch)[0].float().square().mean(), precision)
+    return seconds_per_step(network, lambda: network(batch)[0].float().square().mean(), precisions)
 
 
 def fastest_precision(state: TrainState) -> str:
     """"fp32" or "bf16", whichever trains this run's schedules faster on this machine, measured: whether bf16
-    autocast pays depends on the chip, not on its flags (bench/training.py: 1.2x on an AMD EPYC with AVX-512 BF16,
-    0.7-1.0x on an Intel Xeon with the same flags and no AMX). bf16 must win by BF16_MARGIN, so that
-    measurement noise does not trade fp32's exact arithmetic for nothing; without native bf16 it is not tried."""
+    autocast pays depends on the chip, not on its flags (bench/training.py: 1.2x on an AMD EPYC with AVX-512 BF16;
+    on an Intel Xeon with the same flags and no AMX 1.0x for the autoencoder and 0.7x for the stream LSTM). bf16
+    must win by BF16_MARGIN, so that measurement noise does not trade fp32's exact arithmetic for nothing;
+    without native bf16 it is not tried."""
     if not cpu_has_bf16():
         return "fp32"
     ae, latent = schedules(state)
-    seconds = {precision: ae.total * autoencoder_step(state, precision) + latent.total * latent_step(state, precision)
-               for precision in ("fp32", "bf16")}
+    both = ("fp32", "bf16")
+    ae_step, latent_step = autoencoder_steps(state, both), latent_steps(state, both)
+    seconds = {p: ae.total * ae_step[p] + latent.total * latent_step[p] for p in both}
     return "bf16" if seconds["bf16"] * BF16_MARGIN < seconds["fp32"] else "fp32"

@@ -23,8 +23,8 @@ def timed(monkeypatch, ae: dict[str, float], latent: dict[str, float]) -> list[s
     """Step times fixed per precision; the precisions asked for, in order."""
     asked: list[str] = []
     monkeypatch.setattr(step_times, "cpu_has_bf16", lambda: True)
-    monkeypatch.setattr(step_times, "autoencoder_step", lambda state, precision: asked.append(precision) or ae[precision])
-    monkeypatch.setattr(step_times, "latent_step", lambda state, precision: latent[precision])
+    monkeypatch.setattr(step_times, "autoencoder_steps", lambda state, precisions: asked.extend(precisions) or ae)
+    monkeypatch.setattr(step_times, "latent_steps", lambda state, precisions: latent)
     return asked
 
 
@@ -49,8 +49,8 @@ def test_without_native_bf16_nothing_is_timed(state, monkeypatch):
 
 def test_measuring_leaves_the_networks_as_they_were(state):
     before = {k: v.clone() for k, v in state.autoencoder.state_dict().items()}
-    for precision in ("fp32", "bf16"):
-        assert step_times.autoencoder_step(state, precision) > 0 and step_times.latent_step(state, precision) > 0
+    for measured in (step_times.autoencoder_steps(state, ("fp32", "bf16")), step_times.latent_steps(state, ("bf16",))):
+        assert set(measured) <= {"fp32", "bf16"} and all(seconds > 0 for seconds in measured.values())
     after = state.autoencoder.state_dict()
     assert all(torch.equal(before[k], after[k]) for k in before)
     assert all(p.grad is None for p in state.autoencoder.parameters())

@@ -109,8 +109,8 @@ def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_th
 
     config = load_config(overrides={**TINY, "train.epochs_ae": 400, "train.epochs_lstm": 4000,  # hours of work
                                     "train.precision": "fp32"})
-    monkeypatch.setattr(step_times, "autoencoder_step", lambda state, precision: 0.01)  # measured step times, fixed
-    monkeypatch.setattr(step_times, "latent_step", lambda state, precision: 0.001)
+    monkeypatch.setattr(step_times, "autoencoder_steps", lambda state, asked: {"fp32": 0.01})  # measured, fixed here
+    monkeypatch.setattr(step_times, "latent_steps", lambda state, asked: {"fp32": 0.001})
     state = start_state([recordings / "s0.mcap"], config, tmp_path / "x.pt", resume=False)
     ae, lstm = schedules(state)
     budget.fit_to_minutes(state, minutes=1.0, spent=6.0)
