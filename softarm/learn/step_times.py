@@ -14,12 +14,11 @@ import torch
 import torch.nn.functional as F
 
 from softarm.learn.precision import cpu_has_bf16, forward_precision
-from softarm.learn.train import schedules
 from softarm.learn.train_state import TrainState
 from softarm.model.registry import latent_model_class
 
 ROUNDS = 5  # timed steps of each precision, taken in turns
-BF16_MARGIN = 1.05  # how much faster bf16 must train to be chosen
+BF16_MARGIN = 1.05  # how much faster bf16 must run each network's step to be chosen
 
 
 def seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor],
@@ -60,15 +59,14 @@ def latent_steps(state: TrainState, precisions: Sequence[str]) -> dict[str, floa
 
 
 def fastest_precision(state: TrainState) -> str:
-    """"fp32" or "bf16", whichever trains this run's schedules faster on this machine, measured: whether bf16
-    autocast pays depends on the chip, not on its flags (bench/training.py: 1.2x on an AMD EPYC with AVX-512 BF16;
-    on an Intel Xeon with the same flags and no AMX 1.0x for the autoencoder and 0.7x for the stream LSTM). bf16
-    must win by BF16_MARGIN, so that measurement noise does not trade fp32's exact arithmetic for nothing;
-    without native bf16 it is not tried."""
+    """"bf16" where autocast makes both networks' steps at least BF16_MARGIN faster on this machine, measured;
+    "fp32" otherwise. Whether bf16 pays depends on the chip, not on its flags (bench/training.py: 1.2x for both on
+    an AMD EPYC with AVX-512 BF16; on an Intel Xeon with the same flags and no AMX 1.0x for the autoencoder, whose
+    probe then wavers by ±6 %, and 0.7x for the stream LSTM). Asking it of each network keeps a wavering
+    autoencoder from trading the LSTM's clear loss for nothing, and the margin keeps fp32's exact arithmetic where
+    bf16 gains no more than noise; without native bf16 nothing is tried."""
     if not cpu_has_bf16():
         return "fp32"
-    ae, latent = schedules(state)
     both = ("fp32", "bf16")
-    ae_step, latent_step = autoencoder_steps(state, both), latent_steps(state, both)
-    seconds = {p: ae.total * ae_step[p] + latent.total * latent_step[p] for p in both}
-    return "bf16" if seconds["bf16"] * BF16_MARGIN < seconds["fp32"] else "fp32"
+    steps = (autoencoder_steps(state, both), latent_steps(state, both))
+    return "bf16" if all(step["bf16"] * BF16_MARGIN < step["fp32"] for step in steps) else "fp32"

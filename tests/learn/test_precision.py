@@ -8,7 +8,6 @@ from softarm.config import load_config
 from softarm.learn import step_times
 from softarm.learn.precision import forward_precision
 from softarm.learn.run import train
-from softarm.learn.train import schedules
 from softarm.learn.train_state import start_state
 from softarm.model.checkpoint import load_checkpoint
 from tests.helpers.tiny import TINY
@@ -28,16 +27,14 @@ def timed(monkeypatch, ae: dict[str, float], latent: dict[str, float]) -> list[s
     return asked
 
 
-def test_bf16_is_chosen_only_where_the_whole_schedule_trains_faster_in_it(state, monkeypatch):
-    ae, latent = schedules(state)
-    timed(monkeypatch, {"fp32": 0.10, "bf16": 0.08}, {"fp32": 0.01, "bf16": 0.01})
+def test_bf16_is_chosen_only_where_it_speeds_up_both_networks_beyond_the_margin(state, monkeypatch):
+    timed(monkeypatch, {"fp32": 0.10, "bf16": 0.08}, {"fp32": 0.01, "bf16": 0.008})
     assert step_times.fastest_precision(state) == "bf16"
-    # the autoencoder faster in bf16, the latent model slower by more than that over its longer schedule
-    slower = 0.01 + 0.03 * ae.total / latent.total
-    timed(monkeypatch, {"fp32": 0.10, "bf16": 0.08}, {"fp32": 0.01, "bf16": slower})
+    # the autoencoder faster in bf16, the latent model slower: fp32 (the Xeon without AMX)
+    timed(monkeypatch, {"fp32": 0.10, "bf16": 0.08}, {"fp32": 0.010, "bf16": 0.014})
     assert step_times.fastest_precision(state) == "fp32"
     # within the margin, fp32's exact arithmetic is kept
-    asked = timed(monkeypatch, {"fp32": 0.10, "bf16": 0.098}, {"fp32": 0.01, "bf16": 0.0098})
+    asked = timed(monkeypatch, {"fp32": 0.10, "bf16": 0.098}, {"fp32": 0.01, "bf16": 0.008})
     assert step_times.fastest_precision(state) == "fp32" and asked == ["fp32", "bf16"]
 
 
