@@ -47,11 +47,21 @@ class McapFile:
         self.writer.add_messages(channels * len(stamps), np.repeat(stamps, len(channels)).tolist(),
                                  [data for frame in zip(*messages.values()) for data in frame])
 
+    def add_records(self, stamps: np.ndarray, topics: Sequence[str], records: bytes, sizes: np.ndarray) -> None:
+        """Frames already encoded as message records (McapWriter.add_records), one per topic per frame in the
+        order of `topics`; `sizes` (frames, topics) the datas' lengths."""
+        channels = np.array([self.channels[topic] for topic in topics], np.int64)
+        self.writer.add_records(np.tile(channels, len(stamps)), np.repeat(stamps, len(topics)), records,
+                                sizes.reshape(-1))
+
+    def image_encoder(self, height: int, width: int) -> RawImageEncoder:
+        """The encoder of mono8 foxglove.RawImage messages of this size, frame id "camera"."""
+        return self._images.setdefault((height, width), RawImageEncoder(height, width, "camera"))
+
     def images(self, pixels: np.ndarray, stamps: Sequence[int]) -> list[bytes]:
         """mono8 foxglove.RawImage messages of (n, height, width) bytes, frame id "camera"."""
         n, height, width = pixels.shape
-        encoder = self._images.setdefault((height, width), RawImageEncoder(height, width, "camera"))
-        return encoder.encode(pixels.reshape(n, -1), stamps)
+        return self.image_encoder(height, width).encode(pixels.reshape(n, -1), stamps)
 
     def close(self, metadata: dict[str, dict[str, str]]) -> Path:
         """Add the closing metadata records, write summary and index, rename to the final path."""

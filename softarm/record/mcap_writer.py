@@ -35,6 +35,7 @@ from mcap.records import (
 
 MAGIC = b"\x89MCAP0\r\n"
 MESSAGE_HEADER = struct.Struct("<BQHIQQ")  # opcode, record length, channel, sequence, log time, publish time
+HEADER_BYTES = MESSAGE_HEADER.size          # 31
 INDEX_HEADER = struct.Struct("<BQHI")      # opcode, record length, channel, length of the entries
 CHUNK_SIZE = 1 << 20                       # bytes of messages per chunk before it is compressed and written
 ZSTD_LEVEL = 1                             # fast: the data is mostly 0/255 pixels and short JSON
@@ -85,22 +86,46 @@ class McapWriter:
     def add_messages(self, channels: Sequence[int], times: Sequence[int], datas: Sequence[bytes]) -> None:
         """Messages in log-time order; log time = publish time, in ns. A chunk is written whenever it fills."""
         pack = MESSAGE_HEADER.pack
-        for channel, time, data in zip(channels, times, datas):
-            if time < self._last_time:
-                raise ValueError(f"messages must come in log-time order: {time} ns after {self._last_time} ns")
-            self._last_time = time
-            if self._chunk_start is None:
-                self._chunk_start = time
-            self._index[channel].append((time, self._chunk_bytes))
-            self._parts.append(pack(Opcode.MESSAGE, 22 + len(data), channel, 0, time, time))
-            self._parts.append(data)
-            self._chunk_bytes += 31 + len(data)
-            self._chunk_end = time
-            self._counts[channel] += 1
-            if self._chunk_bytes > self._chunk_size:
+        records = b"".join([part for channel, time, data in zip(channels, times, datas)
+                            for part in (pack(Opcode.MESSAGE, 22 + len(data), channel, 0, time, time), data)])
+        self.add_records(np.asarray(channels, np.int64), np.asarray(times, np.int64), records,
+                         np.fromiter(map(len, datas), np.int64, len(datas)))
+
+    def add_records(self, channels: np.ndarray, times: np.ndarray, records: bytes, sizes: np.ndarray) -> None:
+        """Message records already encoded back to back (a MESSAGE_HEADER and its data each, `sizes` the datas'
+        lengths), in log-time order. A chunk is written after the record that takes it over the chunk size."""
+        if not len(sizes):
+            return
+        if times[0] < self._last_time or np.any(np.diff(times) < 0):
+            bad = int(np.flatnonzero(np.diff(np.concatenate([[self._last_time], times])) < 0)[0])
+            raise ValueError(f"messages must come in log-time order: {times[bad]} ns after "
+                             f"{self._last_time if bad == 0 else times[bad - 1]} ns")
+        if self._first_time is None:
+            self._first_time = int(times[0])
+        ends = np.cumsum(sizes + HEADER_BYTES)
+        view, start, offset = memoryview(records), 0, 0
+        while start < len(sizes):
+            # the chunk is flushed after the first record whose end lies past the room left in it
+            over = int(np.searchsorted(ends[start:] - offset, self._chunk_size - self._chunk_bytes, side="right"))
+            stop = min(start + over + 1, len(sizes))
+            self._take(channels[start:stop], times[start:stop], view[offset:ends[stop - 1]],
+                       np.concatenate([[0], ends[start:stop - 1] - offset]))
+            if over < len(sizes) - start:
                 self.flush_chunk()
-        if len(datas) and self._first_time is None:
-            self._first_time = times[0]
+            start, offset = stop, int(ends[stop - 1])
+        self._last_time = int(times[-1])
+
+    def _take(self, channels: np.ndarray, times: np.ndarray, records: memoryview, starts: np.ndarray) -> None:
+        """Append records to the chunk in progress, with their message index entries."""
+        if self._chunk_start is None:
+            self._chunk_start = int(times[0])
+        self._chunk_end = int(times[-1])
+        for channel in np.unique(channels):
+            mine = channels == channel
+            self._index[int(channel)].append(np.stack([times[mine], starts[mine] + self._chunk_bytes], axis=1))
+            self._counts[int(channel)] += int(np.count_nonzero(mine))
+        self._parts.append(records)
+        self._chunk_bytes += len(records)
 
     def flush_chunk(self) -> None:
         """Compress and write the chunk in progress with its message indexes (nothing if it is empty)."""
@@ -163,13 +188,13 @@ class McapWriter:
 
     def _reset_chunk(self) -> None:
         self._parts: list[bytes] = []
-        self._index: dict[int, list[tuple[int, int]]] = defaultdict(list)
+        self._index: dict[int, list[np.ndarray]] = defaultdict(list)  # per channel: (log time, offset) rows
         self._chunk_bytes = 0
         self._chunk_start: int | None = None
         self._chunk_end = 0
 
 
-def message_index(channel: int, entries: list[tuple[int, int]]) -> bytes:
+def message_index(channel: int, entries: list[np.ndarray]) -> bytes:
     """A MessageIndex record: (log time, offset in the chunk) of each of the channel's messages, packed at once."""
-    body = np.asarray(entries, "<u8").tobytes()
+    body = np.concatenate(entries).astype("<u8").tobytes()
     return INDEX_HEADER.pack(Opcode.MESSAGE_INDEX, 6 + len(body), channel, len(body)) + body

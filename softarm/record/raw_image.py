@@ -35,12 +35,13 @@ class RawImageEncoder:
     """mono8 images of one size and frame id; `encode` takes (n, height * width) pixels and n times in ns."""
 
     def __init__(self, height: int, width: int, frame_id: str, encoding: str = "mono8"):
-        self._middle = (struct.pack("<BIBI", 0x15, width, 0x1D, height) + field(0x22, encoding.encode())
+        # the bytes between the timestamp and the pixels, and after the pixels (also the C encoder's, _frames.c)
+        self.middle = (struct.pack("<BIBI", 0x15, width, 0x1D, height) + field(0x22, encoding.encode())
                         + struct.pack("<BI", 0x2D, width) + bytes([0x32]) + varint(height * width))
-        self._tail = field(0x3A, frame_id.encode()) if frame_id else b""
+        self.tail = field(0x3A, frame_id.encode()) if frame_id else b""
 
     def encode(self, pixels: np.ndarray, stamps: Sequence[int]) -> list[bytes]:
-        middle, tail = self._middle, self._tail
+        middle, tail = self.middle, self.tail
         return [field(0x0A, timestamp(ns)) + middle + row.tobytes() + tail for row, ns in zip(pixels, stamps)]
 
 
