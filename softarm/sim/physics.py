@@ -5,6 +5,7 @@ one arm's substeps are a tight serial loop, because ~160 springs are too few to 
 on a CPU. Fields have the arm (batch) dimension first.
 """
 
+from functools import partial
 from typing import Optional, Sequence
 
 import numpy as np
@@ -19,6 +20,7 @@ from softarm.config import Config
 from softarm.errors import SimulationError
 from softarm.sim.exchange import read_scalars, read_states, write_scalars
 from softarm.sim.forces import accumulate_forces, first_far_node, substep
+from softarm.sim.load import load
 from softarm.sim.muscle_fields import MuscleFields, relax
 from softarm.sim.runtime import device_array, host, task_layout, upload
 from softarm.sim.world import WorldFields, pack
@@ -73,18 +75,14 @@ class Simulator:
         if self.disturbed:
             self.world = WorldFields(slots)
         self._attach(muscles, arms, n)
-        fill = {self.x: np.broadcast_to(positions, (arms, n, 2)), self.v: np.broadcast_to(velocities, (arms, n, 2)),
-                self.rest: body.rest, self.mass: body.masses,
-                self.spring_params: np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1),
-                self.amplitude: [d.amplitude for d in drives], self.time_offset: [d.time_offset for d in drives],
-                self.freqs: [d.frequencies for d in drives],
-                self.amps: [d.amplitudes or np.zeros(len(d.frequencies)) for d in drives],
-                self.phases: [d.phases or np.zeros(len(d.frequencies)) for d in drives],
-                self.direction: drives[0].direction}
-        for field, values in fill.items():
-            field.from_numpy(np.ascontiguousarray(values, np.float64))
-        for field, values in {self.free: body.free, self.springs: body.springs}.items():
-            field.from_numpy(np.ascontiguousarray(values, np.int32))
+        f64 = partial(np.ascontiguousarray, dtype=np.float64)
+        load(self, f64(np.broadcast_to(positions, (arms, n, 2))), f64(np.broadcast_to(velocities, (arms, n, 2))),
+             f64(body.rest), f64(body.masses), np.ascontiguousarray(body.free, np.int32),
+             np.ascontiguousarray(body.springs, np.int32),
+             f64(np.stack([body.rest_lengths, body.stiffness, body.damping], axis=1)),
+             f64([[d.amplitude, d.time_offset] for d in drives]),
+             f64([[d.frequencies for d in drives], [d.amplitudes or np.zeros(len(d.frequencies)) for d in drives],
+                  [d.phases or np.zeros(len(d.frequencies)) for d in drives]]), f64(drives[0].direction))
         self._positions = device_array((arms, block_frames, n, 2), "float64")
         self._status = upload(np.full((arms, 2), -1, np.int32))
         self.history = host(self._positions)
