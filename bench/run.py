@@ -5,7 +5,8 @@
 Prints a Markdown table and writes it, with the raw figures, to bench/results/latest.{md,json}.
 Sections: physics (Taichi vs the float64 NumPy reference), physics vs C (Taichi on every core vs
 hand-written serial C -O3 on one core, bench/physics_reference.c), rasteriser (Taichi vs cv2.fillPoly),
-end to end (`softarm sim` with defaults, start-up included, vs real time), and batches end to end
+the recorder's C encoder (vs its Python encoder, bench/recording.py), end to end (`softarm sim` with
+defaults, start-up included, vs real time), and batches end to end
 (`softarm sim --arms 64|256 --duration 10`, files written, vs the C loop's physics time for the same work).
 """
 
@@ -24,6 +25,7 @@ import cv2
 import numpy as np
 
 from bench.c_reference import CReference, find_compiler
+from bench.recording import encoder_rows
 from softarm.arm.batch import arm_batch
 from softarm.arm.camera import world_to_pixel
 from softarm.arm.reference import simulate_reference
@@ -230,7 +232,7 @@ def main() -> None:
     init_taichi("cpu")
     config = load_config()
     rows = (physics_rows(config, args.quick) + disturbance_rows(config, args.quick) + c_reference_rows(config, args.quick)
-            + raster_rows(config, args.quick)
+            + raster_rows(config, args.quick) + encoder_rows(config, args.quick)
             + end_to_end_rows(args.quick) + batch_rows(config, args.quick))
     table = to_markdown(rows) + "\n\n" + stage_table(args.quick)
     print(f"machine: {machine()}\n\n{table}")
