@@ -120,7 +120,8 @@ class McapWriter:
         if self._chunk_start is None:
             self._chunk_start = int(times[0])
         self._chunk_end = int(times[-1])
-        for channel in np.unique(channels):
+        present, first = np.unique(channels, return_index=True)
+        for channel in present[np.argsort(first)]:  # counted in order of appearance, as the statistics list them
             mine = channels == channel
             self._index[int(channel)].append(np.stack([times[mine], starts[mine] + self._chunk_bytes], axis=1))
             self._counts[int(channel)] += int(np.count_nonzero(mine))

@@ -93,7 +93,7 @@ class RecordingWriter:
                muscles: Optional[tuple[np.ndarray, np.ndarray]]) -> None:
         n = len(images)
         stamps = np.round(np.arange(self.frames, self.frames + n) * self.frame_dt * 1e9).astype(np.int64)
-        stretch = np.ascontiguousarray(stretch, np.float64)
+        stretch, positions, displacement = (np.ascontiguousarray(a, np.float64) for a in (stretch, positions, displacement))
         encoded = None if muscles is not None else encode_frames(
             stamps, tuple(self._mcap.channels[topic] for topic in FRAME_TOPICS),
             self._mcap.image_encoder(*images.shape[1:]), images, stretch, positions, displacement, self._active(n))

@@ -145,3 +145,25 @@ def test_a_chunk_exactly_full_takes_one_more_record_as_the_per_message_writer_di
     writer.add_messages([1] * 7, list(range(7)), [b"x" * 319] * 7)
     writer.finish()
     assert [sum(len(index.records) for index in indexes) for _, indexes in chunks_and_indexes(stream.getvalue())] == [3, 3, 1]
+
+
+def test_float32_and_strided_inputs_write_the_same_bytes_by_both_encoders(tmp_path, monkeypatch):
+    rng = np.random.default_rng(3)
+    images, stretch, positions, displacement = blocks(rng, [30], rng.uniform(-0.3, 0.3, (30, 57, 2)))[0]
+    args = [(images, stretch.astype(np.float32), positions.astype(np.float32),
+             np.stack([displacement, displacement], axis=1)[:, 0].astype(np.float32))]
+    assert write(tmp_path / "c.mcap", args, monkeypatch, native=True) == write(tmp_path / "p.mcap", args, monkeypatch,
+                                                                               native=False)
+
+
+def test_the_statistics_count_channels_in_order_of_appearance():
+    stream = io.BytesIO()
+    writer = McapWriter(stream)
+    writer.start("", "test")
+    schema = writer.register_schema("s", "jsonschema", b"{}")
+    for topic in ("a", "b", "c"):
+        writer.register_channel(topic, "json", schema)
+    writer.add_messages([3, 1, 3, 2], [0, 1, 1, 2], [b"x"] * 4)
+    writer.finish()
+    counts = make_reader(io.BytesIO(stream.getvalue())).get_summary().statistics.channel_message_counts
+    assert list(counts.items()) == [(3, 2), (1, 1), (2, 1)]
