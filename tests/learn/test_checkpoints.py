@@ -14,7 +14,7 @@ from tests.helpers.tiny import TINY
 
 
 def tiny_config(folder):
-    lines = ["[train]"] + [f"{key.split('.')[1]} = {value}" for key, value in TINY.items()]
+    lines = ["[train]"] + [f"{key.split('.')[1]} = {json.dumps(value)}" for key, value in TINY.items()]
     (folder / "tiny.toml").write_text("\n".join(lines) + "\n")
     return "tiny.toml"
 

@@ -55,7 +55,7 @@ def test_measuring_leaves_the_networks_as_they_were(state):
 
 def test_an_auto_training_keeps_its_choice_in_the_checkpoint(recordings, tmp_path, monkeypatch):
     timed(monkeypatch, {"fp32": 0.2, "bf16": 0.1}, {"fp32": 0.2, "bf16": 0.1})
-    config = load_config(overrides={**TINY, "train.epochs_ae": 1, "train.epochs_lstm": 1})
+    config = load_config(overrides={**TINY, "train.epochs_ae": 1, "train.epochs_lstm": 1, "train.precision": "auto"})
     assert config.train.precision == "auto"
     trained = train([recordings / "s0.mcap"], config, tmp_path / "auto.pt")
     assert load_checkpoint(trained.checkpoint)["config"]["train"]["precision"] == "bf16"
