@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from tests.helpers.cli import softarm as run_softarm
-from tests.helpers.tiny import TINY
+from tests.helpers.tiny import tiny_toml
 
 
 @pytest.fixture(scope="session")
@@ -15,8 +15,7 @@ def babble(tmp_path_factory):
     folder = tmp_path_factory.mktemp("babble")
     paths = babble(folder / "episodes", 2, 4.0, config=load_config(overrides={"control.workspace_samples": 16}))
     toml = folder / "tiny.toml"
-    toml.write_text("[train]\n" + "".join(f"{k.split('.')[1]} = {v}\n" for k, v in TINY.items())
-                    + 'inputs = ["stretch", "activation"]\n')
+    toml.write_text(tiny_toml() + 'inputs = ["stretch", "activation"]\n')
     trained = run_softarm("train", str(paths[0]), "--config", str(toml), "--out", str(folder / "babble.pt"),
                           cwd=folder, timeout=600)
     return paths, folder / "babble.pt", trained

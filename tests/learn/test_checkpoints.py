@@ -10,12 +10,11 @@ import torch
 
 from softarm.model.checkpoint import load_checkpoint
 from tests.helpers.cli import SOFTARM, assert_one_line_error, softarm
-from tests.helpers.tiny import TINY
+from tests.helpers.tiny import TINY, tiny_toml
 
 
 def tiny_config(folder):
-    lines = ["[train]"] + [f"{key.split('.')[1]} = {json.dumps(value)}" for key, value in TINY.items()]
-    (folder / "tiny.toml").write_text("\n".join(lines) + "\n")
+    (folder / "tiny.toml").write_text(tiny_toml())
     return "tiny.toml"
 
 
