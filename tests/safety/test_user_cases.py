@@ -191,10 +191,16 @@ def writer_of(process: subprocess.Popen):
     """The writer process a `softarm sim` forked (not Python's resource tracker, which it may start too)."""
     import psutil
 
+    def forked(child: psutil.Process, command: list[str]) -> bool:
+        try:
+            return child.cmdline() == command
+        except psutil.Error:  # a short-lived child (a helper Taichi or Python runs at start-up) went in between
+            return False
+
     end = time.monotonic() + 60
     while time.monotonic() < end:
         parent = psutil.Process(process.pid)
-        writers = [c for c in parent.children() if c.cmdline() == parent.cmdline()]
+        writers = [c for c in parent.children() if forked(c, parent.cmdline())]
         if writers:
             return writers[0]
         time.sleep(0.05)
