@@ -42,3 +42,25 @@ def test_training_on_a_corpus_reports_the_held_out_recordings(corpus, tmp_path):
     assert validation["recordings"] == [corpus[2].name]
     assert set(validation) >= {"model", "ridge", "mean_frame", "ae_ceiling"}
     assert 0 <= validation["model"]["iou"] <= 1
+
+
+def test_validating_a_latent_model_less_often_leaves_its_weights_as_they_were(recordings, tmp_path, monkeypatch):
+    """The held-out loss is only reported: every fifth epoch and the last are validated, the others keep NaN, and
+    the weights equal those of a run validated after every epoch."""
+    import math
+
+    import torch
+
+    from softarm.learn import train as training
+    from softarm.learn.run import train
+    from softarm.model.checkpoint import load_checkpoint
+
+    config = load_config(overrides={**TINY, "train.epochs_ae": 2, "train.epochs_lstm": 7})
+    sparse = load_checkpoint(train([recordings / "s0.mcap"], config, tmp_path / "sparse.pt").checkpoint)
+    monkeypatch.setattr(training, "VALIDATE_EVERY", 1)
+    every = load_checkpoint(train([recordings / "s0.mcap"], config, tmp_path / "every.pt").checkpoint)
+    for network in ("autoencoder", "latent_model"):  # weights and the batch normalisation's running statistics
+        assert all(torch.equal(every[network][key], value) for key, value in sparse[network].items())
+    validated = [k for k, value in enumerate(sparse["losses"]["latent_val"]) if not math.isnan(value)]
+    assert validated == [4, 6] and not any(map(math.isnan, every["losses"]["latent_val"]))
+    assert [sparse["losses"]["latent_val"][k] for k in validated] == [every["losses"]["latent_val"][k] for k in validated]
