@@ -31,10 +31,8 @@ from softarm.record.format import (
     POSITION_DECIMALS,
     STRETCH,
 )
-from softarm.record.frames import encode_frames
+from softarm.record.frames import FRAME_TOPICS, encode_frames
 from softarm.record.mcap_file import McapFile
-
-FRAME_TOPICS = (IMAGE, STRETCH, NODES, EXCITATION, DISTURBANCE)  # a frame's messages, in this order
 
 
 def model_metadata(config: Config, body: Body, drive: Drive, seed: int, positions: np.ndarray, velocities: np.ndarray,
@@ -94,18 +92,20 @@ class RecordingWriter:
         n = len(images)
         stamps = np.round(np.arange(self.frames, self.frames + n) * self.frame_dt * 1e9).astype(np.int64)
         stretch, positions, displacement = (np.ascontiguousarray(a, np.float64) for a in (stretch, positions, displacement))
+        active = self._active(n)
         encoded = None if muscles is not None else encode_frames(
             stamps, tuple(self._mcap.channels[topic] for topic in FRAME_TOPICS),
-            self._mcap.image_encoder(*images.shape[1:]), images, stretch, positions, displacement, self._active(n))
+            self._mcap.image_encoder(*images.shape[1:]), images, stretch, positions, displacement, active)
         if encoded is not None:
             self._mcap.add_records(stamps, FRAME_TOPICS, *encoded)
         else:
             self._mcap.add_frames(stamps.tolist(), self._messages(stamps.tolist(), images, stretch, positions,
-                                                                  displacement, muscles))
+                                                                  displacement, active, muscles))
         self.frames += n
 
     def _messages(self, stamps: list[int], images: np.ndarray, stretch: np.ndarray, positions: np.ndarray,
-                  displacement: np.ndarray, muscles: Optional[tuple[np.ndarray, np.ndarray]]) -> dict[str, list[bytes]]:
+                  displacement: np.ndarray, active: list[list[int]],
+                  muscles: Optional[tuple[np.ndarray, np.ndarray]]) -> dict[str, list[bytes]]:
         """The Python encoder: each topic's messages of the block (the reference the C encoder matches)."""
         seconds = [ns / 1e9 for ns in stamps]
         positions = np.round(positions, POSITION_DECIMALS)  # a fresh C-contiguous array, as orjson needs
@@ -115,7 +115,7 @@ class RecordingWriter:
             STRETCH: [dumps({"t": t, "stretch": s}, option=numpy) for t, s in zip(seconds, stretch)],
             NODES: [dumps({"t": t, "positions": p}, option=numpy) for t, p in zip(seconds, positions)],
             EXCITATION: [dumps({"t": t, "displacement": float(d)}) for t, d in zip(seconds, displacement)],
-            DISTURBANCE: [dumps({"t": t, "active": active}) for t, active in zip(seconds, self._active(len(stamps)))]}
+            DISTURBANCE: [dumps({"t": t, "active": a}) for t, a in zip(seconds, active)]}
         if muscles is not None:
             command, activation = (np.ascontiguousarray(m, np.float64) for m in muscles)
             messages[ACTIVATION] = [dumps({"t": t, "command": u, "activation": a}, option=numpy)

@@ -1,7 +1,7 @@
 """A new simulator's fields filled in one kernel launch.
 
 Taichi builds every kernel from Python's syntax tree before it asks its offline cache, and `from_numpy`
-is one kernel per field: thirteen of them cost about 0.3 s of every run's start, one costs a tenth of that.
+is one kernel per field: with thirteen of them a 64-arm simulator took 0.26 s to make, with this one 0.10 s.
 """
 
 import taichi as ti
