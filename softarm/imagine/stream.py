@@ -2,8 +2,8 @@
 
 A robot's loop calls `step(sample)` once per reading (every 10 ms at the default frame rate). The latent
 model's online reader keeps what it needs (the window model its last `history` samples, a stream model
-only its recurrent state; an ensemble one reader per member) and answers; the decoder then draws one latent
-code; the surprise's forward model compares the sample with what the samples before it expected: the same
+only its recurrent state; an ensemble one reader per member) and answers; the decoder, its batch norms folded
+for one code at a time (`FrameDecoder`), then draws one latent code; the surprise's forward model compares the sample with what the samples before it expected: the same
 computation as a batch replay, frame for frame. With the paper's set-up (`include_current` false) the samples
 up to k imagine frame k+1, what the body will look like at the next sample; with `include_current` frame k.
 """
@@ -63,7 +63,7 @@ class StreamingImaginer:
         prediction = joined_members([Prediction(target, latent[None], log_error[None]) for latent, log_error in answers])
         if imaginer.surprise is not None:  # the calibrated confidence reads both, as in a batch replay
             prediction = prediction.with_surprise(np.array([surprise]), np.array([residual]))
-        return ImaginedFrame(int(target[0]), imaginer.decode(prediction.latents)[0],
+        return ImaginedFrame(int(target[0]), self._draw(imaginer.latent_scaler.inverse(prediction.latents)[0]),
                              float(imaginer.confidence(prediction)[0]), surprise,
                              bool(imaginer.surprise is not None and surprise > imaginer.surprise.threshold))
 
@@ -76,7 +76,10 @@ class StreamingImaginer:
 
     def reset(self) -> None:
         """Forget what was read (a new run or a gap in the readings)."""
+        from softarm.model.frame_decoder import FrameDecoder  # torch loads here, not when softarm is imported
+
         imaginer = self.imaginer
+        self._draw = FrameDecoder(imaginer.autoencoder)
         self._readers = [model.online() for model in (imaginer.latent, *imaginer.members)]
         self._surprise = imaginer.surprise.online() if imaginer.surprise is not None else None
         self.samples = 0  # samples seen so far; the latest one is sample samples - 1

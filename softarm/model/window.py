@@ -11,6 +11,7 @@ import torch
 
 from softarm.config import TrainConfig
 from softarm.model.autoencoder import in_batches
+from softarm.model.cells import Readout
 from softarm.model.latent import LatentModel, OnlineReader, Order, Step, TrainingSeries
 from softarm.model.prediction import Prediction
 from softarm.model.windows import input_windows, window_count
@@ -85,17 +86,21 @@ class WindowLSTM(LatentModel):
 
 
 class WindowReader(OnlineReader):
-    """The last `history` samples, run through the LSTM whole at every step."""
+    """The last `history` samples, run through the LSTM whole at every step from a zero state, in NumPy
+    (`softarm.model.cells`: a third of the torch layer's time at one window)."""
 
     def __init__(self, model: WindowLSTM):
         self.model = model
         self.window: deque[np.ndarray] = deque(maxlen=model.history)
+        self.cell = model.cell(model.rnn)
+        self.readout = Readout(model.head, model.error.net)
 
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
         self.window.append(sample)
         if len(self.window) < self.model.history:
             return None
-        window = np.stack(self.window)
-        prediction = self.model.answer_windows(window[None], np.zeros(1, int))
-        self.state_vector = self.model.states(window)[-1]
-        return prediction.latents[0], prediction.log_error[0]
+        self.cell.reset()
+        for earlier in self.window:
+            state = self.cell.step(earlier)
+        self.state_vector = state.astype(np.float64)
+        return self.readout(state)
