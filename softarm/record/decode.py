@@ -8,7 +8,12 @@ import orjson
 from foxglove_schemas_protobuf.RawImage_pb2 import RawImage
 
 from softarm.errors import RecordingError
-from softarm.record.format import IMAGE
+from softarm.record.format import IMAGE, NODES
+
+try:
+    from softarm.record import _nodes as native
+except ImportError:  # installed without a C compiler: orjson reads the same values
+    native = None
 
 
 def signal_values(messages: dict[int, bytes], stamps: list[int], keys: tuple[str, ...], shape: tuple[int, ...], topic: str,
@@ -23,6 +28,16 @@ def signal_values(messages: dict[int, bytes], stamps: list[int], keys: tuple[str
     if values is None or values.shape != (len(stamps), *shape):
         raise RecordingError(f"{path}: its {topic} messages do not hold {keys[0]} of shape {shape} for every frame")
     return values
+
+
+def node_positions(messages: dict[int, bytes], stamps: list[int], nodes: int, path: Path) -> np.ndarray:
+    """(T, nodes, 2) float64: every frame's node positions, parsed in C where the messages are of the form softarm
+    writes (ten times faster than orjson), else as `signal_values` reads any JSON."""
+    if native is not None:
+        parsed = native.positions(b"".join(messages[s] for s in stamps), len(stamps), nodes)
+        if parsed is not None:
+            return np.frombuffer(parsed, np.float64).reshape(len(stamps), nodes, 2)
+    return signal_values(messages, stamps, ("positions",), (nodes, 2), NODES, path)
 
 
 def mono8_image(data: bytes, path: Path, height: int, width: int) -> np.ndarray:

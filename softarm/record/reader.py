@@ -15,7 +15,7 @@ import orjson
 from mcap.records import Channel, Message, Metadata
 
 from softarm.errors import RecordingError
-from softarm.record.decode import mono8_image, signal_values
+from softarm.record.decode import mono8_image, node_positions, signal_values
 from softarm.record.document import check_model
 from softarm.record.format import (
     ACTIVATION,
@@ -52,11 +52,11 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
     frames = (np.stack([mono8_image(messages[IMAGE][s], path, height, width) for s in stamps]) > 127).astype(np.uint8)
     complete = run is not None and run.get("complete") == "true" and not truncated
     signals = {STRETCH: (("stretch",), (len(model["sensors"]),)), EXCITATION: (("displacement",), ()),
-               NODES: (("positions",), (len(model["nodes"]), 2)),
                ACTIVATION: (("activation",), (len(model.get("muscles", {}).get("names", ())),))}
-    stretch, displacement, positions, activation = (
+    stretch, displacement, activation = (
         signal_values(messages[topic], stamps, *signals[topic], topic, path) if messages.get(topic) else None
-        for topic in (STRETCH, EXCITATION, NODES, ACTIVATION))
+        for topic in (STRETCH, EXCITATION, ACTIVATION))
+    positions = node_positions(messages[NODES], stamps, len(model["nodes"]), path) if messages.get(NODES) else None
     if truncated:
         warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
                       stacklevel=2)
