@@ -2,10 +2,11 @@
 
 A robot's loop calls `step(sample)` once per reading (every 10 ms at the default frame rate). The latent
 model's online reader keeps what it needs (the window model its last `history` samples, a stream model
-only its recurrent state; an ensemble one reader per member) and answers; the decoder, its batch norms folded
-for one code at a time (`FrameDecoder`), then draws one latent code; the surprise's forward model compares the sample with what the samples before it expected: the same
-computation as a batch replay, frame for frame. With the paper's set-up (`include_current` false) the samples
-up to k imagine frame k+1, what the body will look like at the next sample; with `include_current` frame k.
+only its recurrent state; an ensemble one reader per member) and answers; the decoder, prepared for one code
+at a time (`FrameDecoder`), then draws it; the surprise's forward model compares the sample with what the
+samples before it expected: the same computation as a batch replay, frame for frame. With the paper's set-up
+(`include_current` false) the samples up to k imagine frame k+1, what the body will look like at the next
+sample; with `include_current` frame k.
 """
 
 from dataclasses import dataclass
@@ -38,7 +39,10 @@ class StreamingImaginer:
         return cls(TrainedModel(path).imaginer)
 
     def __init__(self, imaginer: "Imaginer"):
+        from softarm.model.frame_decoder import FrameDecoder  # torch loads here, not when softarm is imported
+
         self.imaginer = imaginer
+        self._draw = FrameDecoder(imaginer.autoencoder)
         self.reset()
 
     def step(self, sample: Optional[np.ndarray] = None, **channels: Any) -> Optional[ImaginedFrame]:
@@ -76,10 +80,7 @@ class StreamingImaginer:
 
     def reset(self) -> None:
         """Forget what was read (a new run or a gap in the readings)."""
-        from softarm.model.frame_decoder import FrameDecoder  # torch loads here, not when softarm is imported
-
         imaginer = self.imaginer
-        self._draw = FrameDecoder(imaginer.autoencoder)
         self._readers = [model.online() for model in (imaginer.latent, *imaginer.members)]
         self._surprise = imaginer.surprise.online() if imaginer.surprise is not None else None
         self.samples = 0  # samples seen so far; the latest one is sample samples - 1

@@ -7,13 +7,16 @@ from the trained layers when the reader is made, so the answers equal `nn.LSTM`'
 rounding (tests/model/test_cells.py).
 """
 
+from typing import ClassVar
+
 import numpy as np
 import torch
 from torch import nn
 
 
 def _sigmoid(x: np.ndarray) -> np.ndarray:
-    return 1.0 / (1.0 + np.exp(-x))
+    """The logistic function through tanh: no overflow warning for a saturated gate, unlike 1 / (1 + exp(-x))."""
+    return 0.5 + 0.5 * np.tanh(0.5 * x)
 
 
 def _weights(tensor: torch.Tensor) -> np.ndarray:
@@ -23,13 +26,13 @@ def _weights(tensor: torch.Tensor) -> np.ndarray:
 class Cell:
     """One layer's state, advanced sample by sample: `step(sample)` returns the new hidden state (H,)."""
 
+    mode: ClassVar[str]  # the torch layer's `mode` this cell steps
+
     def __init__(self, rnn: nn.RNNBase):
-        if rnn.num_layers != 1 or rnn.bidirectional or not rnn.bias:
-            raise ValueError("a NumPy cell reads one unidirectional layer with biases")
+        if rnn.mode != self.mode or rnn.num_layers != 1 or rnn.bidirectional or not rnn.bias or rnn.proj_size:
+            raise ValueError(f"a NumPy {self.mode} cell reads one unidirectional {self.mode} layer with biases and "
+                             f"no projection, not this {rnn.mode}")
         self.inputs, self.hidden = rnn.input_size, rnn.hidden_size
-        self.w_input = np.ascontiguousarray(_weights(rnn.weight_ih_l0).T)   # (P, gates * H)
-        self.w_hidden = np.ascontiguousarray(_weights(rnn.weight_hh_l0).T)  # (H, gates * H)
-        self.b_input, self.b_hidden = _weights(rnn.bias_ih_l0), _weights(rnn.bias_hh_l0)
         self.reset()
 
     def reset(self) -> None:
@@ -43,10 +46,12 @@ class Cell:
 class LstmCell(Cell):
     """`nn.LSTM`'s step: gates i, f, g, o in that order; the cell state c beside h."""
 
+    mode = "LSTM"
+
     def __init__(self, rnn: nn.LSTM):
+        self.w = np.ascontiguousarray(np.concatenate([_weights(rnn.weight_ih_l0), _weights(rnn.weight_hh_l0)], 1).T)
+        self.b = _weights(rnn.bias_ih_l0) + _weights(rnn.bias_hh_l0)  # (P + H, 4H) and (4H,)
         super().__init__(rnn)
-        self.w = np.ascontiguousarray(np.concatenate([self.w_input, self.w_hidden]))  # (P + H, 4H)
-        self.b = self.b_input + self.b_hidden
 
     def reset(self) -> None:
         super().reset()
@@ -67,6 +72,14 @@ class LstmCell(Cell):
 class GruCell(Cell):
     """`nn.GRU`'s step: gates r, z, n in that order; the reset gate scales the hidden part of n only."""
 
+    mode = "GRU"
+
+    def __init__(self, rnn: nn.GRU):
+        self.w_input = np.ascontiguousarray(_weights(rnn.weight_ih_l0).T)   # (P, 3H)
+        self.w_hidden = np.ascontiguousarray(_weights(rnn.weight_hh_l0).T)  # (H, 3H)
+        self.b_input, self.b_hidden = _weights(rnn.bias_ih_l0), _weights(rnn.bias_hh_l0)
+        super().__init__(rnn)
+
     def step(self, sample: np.ndarray) -> np.ndarray:
         h = self.hidden
         gi = sample.astype(np.float32) @ self.w_input + self.b_input
@@ -77,10 +90,21 @@ class GruCell(Cell):
         return self.h
 
 
+def cell_of(rnn: nn.RNNBase) -> Cell:
+    """The NumPy step of a torch recurrent layer."""
+    cells = {cls.mode: cls for cls in (LstmCell, GruCell)}
+    if rnn.mode not in cells:
+        raise ValueError(f"no NumPy cell steps a {rnn.mode} layer")
+    return cells[rnn.mode](rnn)
+
+
 class Readout:
     """The latent head and the error head (Linear, ReLU, Linear) of a latent model, on one state (H,)."""
 
     def __init__(self, head: nn.Linear, error: nn.Sequential):
+        if not (len(error) == 3 and isinstance(error[0], nn.Linear) and isinstance(error[1], nn.ReLU)
+                and isinstance(error[2], nn.Linear)):
+            raise ValueError("the error head must be Linear, ReLU, Linear")
         first, last = error[0], error[2]
         self.head = (np.ascontiguousarray(_weights(head.weight).T), _weights(head.bias))
         self.first = (np.ascontiguousarray(_weights(first.weight).T), _weights(first.bias))

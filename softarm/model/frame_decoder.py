@@ -10,7 +10,7 @@ the module (`bench/streaming.py` times the whole step); the pixels equal the mod
 (tests/model/test_frame_decoder.py).
 """
 
-from typing import Callable
+from typing import Callable, Optional
 
 import numpy as np
 import torch
@@ -24,6 +24,8 @@ Layer = Callable[[torch.Tensor], torch.Tensor]
 
 def folded(conv: nn.Module, norm: nn.BatchNorm2d) -> tuple[torch.Tensor, torch.Tensor]:
     """The weight and bias of `conv` followed by `norm` (in eval mode) as one convolution."""
+    if not norm.affine or norm.running_mean is None:
+        raise TypeError("the frame decoder folds only affine batch norms with running statistics")
     gain = norm.weight / torch.sqrt(norm.running_var + norm.eps)
     # a convolution's weight is (out, in, k, k); a transposed one's (in, out, k, k)
     shape = (1, -1, 1, 1) if isinstance(conv, nn.ConvTranspose2d) else (-1, 1, 1, 1)
@@ -48,11 +50,13 @@ def phases(weight: torch.Tensor, bias: torch.Tensor) -> tuple[torch.Tensor, torc
     return out.reshape(c_out * 4, c_in, 3, 3), bias.repeat_interleave(4)
 
 
-def convolution(conv: nn.Module, weight: torch.Tensor, bias: torch.Tensor) -> Layer:
+def convolution(conv: nn.Module, weight: torch.Tensor, bias: Optional[torch.Tensor]) -> Layer:
     """The functional call of a convolution or transposed one, its weight channels-last."""
+    if conv.groups != 1 or conv.dilation != (1, 1) or conv.padding_mode != "zeros":
+        raise TypeError("the frame decoder runs only plain convolutions (no groups, dilation or padding mode)")
     if isinstance(conv, nn.ConvTranspose2d):
         if (conv.kernel_size, conv.stride, conv.padding, conv.output_padding) == ((4, 4), (2, 2), (1, 1), (0, 0)):
-            grid, shift = phases(weight, bias)
+            grid, shift = phases(weight, bias if bias is not None else torch.zeros(weight.shape[1]))
             grid = grid.contiguous(memory_format=torch.channels_last)
             return lambda x: F.pixel_shuffle(F.conv2d(x, grid, shift, padding=1), 2)
         weight = weight.contiguous(memory_format=torch.channels_last)
@@ -77,7 +81,7 @@ def layer(module: nn.Module) -> Layer:
     if isinstance(module, nn.ReLU):
         return torch.relu
     if isinstance(module, (nn.Conv2d, nn.ConvTranspose2d)):
-        return convolution(module, module.weight.detach(), module.bias.detach())
+        return convolution(module, module.weight.detach(), None if module.bias is None else module.bias.detach())
     if isinstance(module, nn.Sequential) and len(module) == 3 and isinstance(module[1], nn.BatchNorm2d):
         convolve, activate = convolution(module[0], *folded(module[0], module[1])), layer(module[2])
         return lambda x: activate(convolve(x))  # conv, norm, activation

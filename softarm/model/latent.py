@@ -17,7 +17,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from softarm.config import TrainConfig
-from softarm.model.cells import Cell, LstmCell
+from softarm.model.cells import Cell, cell_of
 from softarm.model.prediction import Prediction
 
 StepLoss = tuple[torch.Tensor, float, int]   # (loss to minimise, loss to report, items it covers)
@@ -65,7 +65,6 @@ class LatentModel(nn.Module):
     part of an answer."""
 
     core: ClassVar[type[nn.RNNBase]] = nn.LSTM
-    cell: ClassVar[type[Cell]] = LstmCell  # `core`'s step in NumPy, for the online readers
     clip_norm: ClassVar[Optional[float]] = None  # gradient norm at most while training (None: unclipped)
 
     def __init__(self, inputs: int, outputs: int, train: TrainConfig, nodes: int = 0):
@@ -92,6 +91,10 @@ class LatentModel(nn.Module):
     @property
     def lead(self) -> int:
         return self.settings.lead
+
+    def cell(self) -> Cell:
+        """A NumPy step of this model's recurrent layer (`core`), for the online readers."""
+        return cell_of(self.rnn)
 
     @property
     def first_frame(self) -> int:

@@ -14,7 +14,7 @@ from torch import nn
 
 from softarm.config import TrainConfig
 from softarm.model import pieces
-from softarm.model.cells import GruCell, Readout
+from softarm.model.cells import Readout
 from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries, detached
 from softarm.model.prediction import Prediction
 
@@ -102,7 +102,6 @@ class StreamLSTM(StreamModel):
 
 class StreamGRU(StreamModel):
     core = nn.GRU
-    cell = GruCell
 
 
 class StreamReader(OnlineReader):
@@ -111,7 +110,7 @@ class StreamReader(OnlineReader):
 
     def __init__(self, model: StreamModel):
         self.model = model
-        self.cell = model.cell(model.rnn)
+        self.cell = model.cell()
         self.readout = Readout(model.head, model.error.net)
         self.samples = 0
 

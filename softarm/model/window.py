@@ -92,7 +92,7 @@ class WindowReader(OnlineReader):
     def __init__(self, model: WindowLSTM):
         self.model = model
         self.window: deque[np.ndarray] = deque(maxlen=model.history)
-        self.cell = model.cell(model.rnn)
+        self.cell = model.cell()
         self.readout = Readout(model.head, model.error.net)
 
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:

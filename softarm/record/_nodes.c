@@ -1,7 +1,8 @@
 /* The reader's hot path in C: the node positions of a recording's /arm/nodes messages, every frame's at once.
 
    Each message is {"t":T,"positions":[[x,y],[x,y],...]} exactly as softarm writes it (docs/recording.md): no
-   whitespace, the keys in that order, one pair per node. The messages are given back to back; each number must
+   whitespace, the keys in that order, one pair per node. The messages are given joined by newlines (which no
+   message of that form holds, so each must end where its newline stands); each number must
    follow JSON's grammar and is read by strtod (correctly rounded, as orjson reads it). Anything else (another
    key, whitespace, a null, a number out of range, another node count) returns None, and the caller decodes the
    messages with orjson instead. orjson took 0.4 s of a 60 s recording's 0.6 s read here; this takes 0.04 s. */
@@ -81,7 +82,7 @@ static int parse(const char *p, const char *end, Py_ssize_t frames, Py_ssize_t n
                 (p = LITERAL(p, ",")) == NULL || (p = number(p, end, out + 1)) == NULL || (p = LITERAL(p, "]")) == NULL)
                 return 0;
         }
-        if ((p = LITERAL(p, "]}")) == NULL)
+        if ((p = LITERAL(p, "]}")) == NULL || (f + 1 < frames && (p = LITERAL(p, "\n")) == NULL))
             return 0;
     }
     return p == end;
@@ -119,7 +120,7 @@ done:
 
 static PyMethodDef methods[] = {
     {"positions", positions, METH_VARARGS,
-     "positions(messages, frames, nodes) -> bytearray | None: the float64 pairs (frames x nodes x 2) of back-to-back "
+     "positions(messages, frames, nodes) -> bytearray | None: the float64 pairs (frames x nodes x 2) of newline-joined "
      "/arm/nodes messages of softarm's form, None for any other (see the module's source)."},
     {NULL, NULL, 0, NULL}};
 

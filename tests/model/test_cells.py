@@ -6,7 +6,7 @@ import pytest
 import torch
 from torch import nn
 
-from softarm.model.cells import GruCell, LstmCell, Readout
+from softarm.model.cells import GruCell, LstmCell, Readout, cell_of
 
 
 @pytest.mark.parametrize("layer, cell", [(nn.LSTM, LstmCell), (nn.GRU, GruCell)])
@@ -22,9 +22,11 @@ def test_a_cell_steps_as_the_torch_layer_reads_the_whole_series(layer, cell):
     np.testing.assert_allclose(got, expected, atol=1e-5)
 
 
-def test_a_cell_refuses_a_layer_it_cannot_step():
-    with pytest.raises(ValueError, match="one unidirectional layer"):
-        LstmCell(nn.LSTM(5, 8, num_layers=2))
+@pytest.mark.parametrize("rnn, cell", [(nn.LSTM(5, 8, num_layers=2), LstmCell), (nn.GRU(5, 8), LstmCell),
+                                       (nn.LSTM(5, 8, proj_size=4), LstmCell), (nn.RNN(5, 8), None)])
+def test_a_cell_refuses_a_layer_it_cannot_step(rnn, cell):
+    with pytest.raises(ValueError, match="NumPy"):
+        cell(rnn) if cell is not None else cell_of(rnn)
 
 
 def test_the_readout_answers_as_the_heads_do():

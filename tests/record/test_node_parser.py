@@ -4,6 +4,7 @@ orjson reads them) any other: checked against orjson on awkward numbers and on a
 import numpy as np
 import orjson
 import pytest
+from mcap.reader import make_reader
 
 from softarm.errors import RecordingError
 from softarm.record import decode
@@ -26,7 +27,7 @@ def test_awkward_numbers_read_as_orjson_reads_them():
     values = np.where(rng.random((300, 57, 2)) < 0.5, -1, 1) * 10.0 ** rng.uniform(-320, 300, (300, 57, 2))
     values.reshape(-1)[:9] = [0.0, -0.0, 5e-324, 1.7976931348623157e308, 0.1, 1e-7, 123456789.0, 2.5e-308, 1e-320]
     messages = messages_of(values)
-    parsed = decode.native.positions(b"".join(messages), len(messages), 57)
+    parsed = decode.native.positions(b"\n".join(messages), len(messages), 57)
     assert parsed is not None
     got = np.frombuffer(parsed, np.float64).reshape(300, 57, 2)
     np.testing.assert_array_equal(got, by_orjson(messages))
@@ -41,20 +42,24 @@ def test_integers_read_as_orjson_reads_them():
 
 
 @pytest.mark.parametrize("message", [
-    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0]]}',  # a node short
-    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0],[5.0,6.0]]}',
-    b'{"t":0.0, "positions":[[1.0,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # whitespace
-    b'{"positions":[[1.0,2.0],[3.0,4.0]],"t":0.0}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # key order
-    b'{"t":0.0,"positions":[[null,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',
-    b'{"t":0.0,"positions":[[01,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # not JSON
-    b'{"t":0.0,"positions":[[1.,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',
-    b'{"t":0.0,"positions":[[1e,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',
-    b'{"t":0.0,"positions":[[1e999,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # infinite
-    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}x',  # trailing
-    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]',  # cut short
+    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0]]}',  # a node short
+    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0],[5.0,6.0]]}',
+    b'{"t":0.0, "positions":[[1.0,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # whitespace
+    b'{"positions":[[1.0,2.0],[3.0,4.0]],"t":0.0}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # key order
+    b'{"t":0.0,"positions":[[null,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',
+    b'{"t":0.0,"positions":[[01,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # not JSON
+    b'{"t":0.0,"positions":[[1.,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',
+    b'{"t":0.0,"positions":[[1e,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',
+    b'{"t":0.0,"positions":[[1e999,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # infinite
+    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}x',  # trailing
+    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]',  # cut short
+    b'\n{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # two in one
+    b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]\n]}{"t":0.01,"positions":[[1.0,2.0],[3.0,4.0]]}',  # cut, its end next
 ])
 def test_anything_but_softarms_form_is_left_to_orjson(message):
     assert decode.native.positions(message, 2, 2) is None
+    good = b'{"t":0.0,"positions":[[1.0,2.0],[3.0,4.0]]}\n{"t":0.01,"positions":[[1.0,2.0],[3.0,-4.0]]}'
+    assert np.frombuffer(decode.native.positions(good, 2, 2), np.float64).tolist() == [1, 2, 3, 4, 1, 2, 3, -4]
 
 
 def test_the_reader_falls_back_to_orjson_and_refuses_what_it_refuses(tmp_path):
@@ -66,6 +71,9 @@ def test_the_reader_falls_back_to_orjson_and_refuses_what_it_refuses(tmp_path):
 
 
 def test_a_recording_reads_the_same_with_and_without_the_parser(recordings, monkeypatch):
+    with open(recordings / "s0.mcap", "rb") as f:
+        written = [m.data for _, _, m in make_reader(f).iter_messages(topics=[NODES])]
+    assert decode.native.positions(b"\n".join(written), len(written), 57) is not None  # softarm's own form
     fast = read_recording(recordings / "s0.mcap").positions
     monkeypatch.setattr(decode, "native", None)
     slow = read_recording(recordings / "s0.mcap").positions
