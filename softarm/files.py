@@ -26,16 +26,22 @@ PathLike = Union[str, Path]
 def check_outputs(outputs: Sequence[PathLike], force: bool, inputs: Sequence[PathLike] = ()) -> None:
     """Refuse before any work, creating nothing: two outputs on one file, an output that is one of the inputs
     (the same path once resolved, or a hard link to it), an existing output (unless force), an output that is
-    a folder, or one whose folder cannot be made or written."""
-    outputs = [Path(p) for p in outputs]
-    for k, path in enumerate(outputs):
-        for other in outputs[:k]:
-            if same_file(path, other):
-                raise OutputError(f"the outputs {other} and {path} are one file: give each its own name")
-        for source in map(Path, inputs):
-            if same_file(path, source):
-                raise OutputError(f"output {path} is the input {source}: write the output elsewhere "
-                                  f"(--force replaces an old output, never an input)")
+    a folder, or one whose folder cannot be made or written. Each name is resolved once and looked up, so a
+    batch of 256 outputs costs 256 lookups, not 32 640 pairwise comparisons (1.9 s as first written)."""
+    sources: dict[Any, Path] = {}
+    for source in map(Path, inputs):
+        sources.update(dict.fromkeys(identities(source), source))
+    earlier: dict[Any, Path] = {}
+    for path in map(Path, outputs):
+        keys = identities(path)
+        other = next((earlier[k] for k in keys if k in earlier), None)
+        if other is not None:
+            raise OutputError(f"the outputs {other} and {path} are one file: give each its own name")
+        source = next((sources[k] for k in keys if k in sources), None)
+        if source is not None:
+            raise OutputError(f"output {path} is the input {source}: write the output elsewhere "
+                              f"(--force replaces an old output, never an input)")
+        earlier.update(dict.fromkeys(keys, path))
         if path.is_dir():
             raise OutputError(f"output {path} is a folder; give a file name")
         if path.exists() and not force:
@@ -52,14 +58,15 @@ def check_writable_folder(path: Path) -> None:
         raise OutputError(f"cannot write {path}: {parent} is not writable")
 
 
-def same_file(a: Path, b: Path) -> bool:
-    """One file by two names: equal once resolved, or a hard link (one device and inode)."""
-    if Path(a).resolve() == Path(b).resolve():
-        return True
+def identities(path: Path) -> list[Any]:
+    """What two names of one file share: the path once resolved, and where the file exists its device and
+    inode (a hard link)."""
+    keys: list[Any] = [path.resolve()]
     try:
-        return os.path.samefile(a, b)
-    except OSError:  # one of them does not exist
-        return False
+        status = os.stat(path)
+    except OSError:  # it does not exist (yet)
+        return keys
+    return [*keys, (status.st_dev, status.st_ino)]
 
 
 @contextmanager

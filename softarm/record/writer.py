@@ -38,29 +38,30 @@ from softarm.record.mcap_file import McapFile
 def model_metadata(config: Config, body: Body, drive: Drive, seed: int, positions: np.ndarray, velocities: np.ndarray,
                    disturbances: Sequence[Disturbance] = ()) -> dict[str, Any]:
     """Everything another program needs to re-simulate this arm without softarm (docs/model.md, docs/recording.md)."""
-    return {
-        "nodes": body.rest.tolist(),
-        "masses": body.masses.tolist(),
-        "springs": body.springs.tolist(),
-        "rest_lengths": body.rest_lengths.tolist(),
-        "stiffness": body.stiffness.tolist(),
-        "damping": body.damping.tolist(),
-        "driven": body.driven.tolist(),
-        "gravity": body.gravity.tolist(),
-        "excitation": drive.parameters(),
-        "sensors": body.sensors.tolist(),
-        "outline": body.outline.tolist(),
-        "camera": {"width": config.camera.width, "height": config.camera.height,
-                   "world_to_pixel": world_to_pixel(config.camera).tolist()},
-        "frame_dt": config.integration.frame_dt,
-        "substeps": config.integration.substeps,
-        "integrator": config.integration.integrator,
-        "initial": {"positions": positions.tolist(), "velocities": velocities.tolist()},
-        "seed": seed,
-        "disturbances": [d.metadata() for d in disturbances],
-        "softarm_version": __version__,
-        "config": config.to_dict(),
-    }
+    return ArmMetadata(config, body)(drive, seed, positions, velocities, disturbances)
+
+
+class ArmMetadata:
+    """The model metadata of the arms of one config and body: what they share (the body, the camera, the config)
+    is built once, not once an arm (a 256-arm batch spent 0.32 s of its start there)."""
+
+    def __init__(self, config: Config, body: Body):
+        self.body = {"nodes": body.rest.tolist(), "masses": body.masses.tolist(), "springs": body.springs.tolist(),
+                     "rest_lengths": body.rest_lengths.tolist(), "stiffness": body.stiffness.tolist(),
+                     "damping": body.damping.tolist(), "driven": body.driven.tolist(), "gravity": body.gravity.tolist()}
+        self.sensing = {"sensors": body.sensors.tolist(), "outline": body.outline.tolist(),
+                        "camera": {"width": config.camera.width, "height": config.camera.height,
+                                   "world_to_pixel": world_to_pixel(config.camera).tolist()},
+                        "frame_dt": config.integration.frame_dt, "substeps": config.integration.substeps,
+                        "integrator": config.integration.integrator}
+        self.versions = {"softarm_version": __version__, "config": config.to_dict()}
+
+    def __call__(self, drive: Drive, seed: int, positions: np.ndarray, velocities: np.ndarray,
+                 disturbances: Sequence[Disturbance] = ()) -> dict[str, Any]:
+        """One arm's, its keys in the order every recording has them."""
+        return {**self.body, "excitation": drive.parameters(), **self.sensing,
+                "initial": {"positions": positions.tolist(), "velocities": velocities.tolist()}, "seed": seed,
+                "disturbances": [d.metadata() for d in disturbances], **self.versions}
 
 
 class RecordingWriter:

@@ -16,7 +16,7 @@ from softarm.interrupt import Escalated, stop_on_signal
 from softarm.record.kept import describe_kept
 from softarm.record.process import RecorderProcess, WriterFailed
 from softarm.record.slots import BlockShape
-from softarm.record.writer import model_metadata
+from softarm.record.writer import ArmMetadata
 from softarm.sim import check_arch
 from softarm.sim.budget import block_frames_for, check_resources
 
@@ -134,8 +134,8 @@ def record_batch(config: Config, batch: ArmBatch, paths: list[Path], arch: str,
 
 def start_recorder(config: Config, batch: ArmBatch, paths: list[Path], block_frames: int) -> RecorderProcess:
     """The writer processes of a run, each file opened with its arm's model metadata."""
-    body = batch.body
-    specs = [(path, model_metadata(config, body, drive, seed, p0, v0, world), config.integration.frame_dt)
+    body, metadata = batch.body, ArmMetadata(config, batch.body)
+    specs = [(path, metadata(drive, seed, p0, v0, world), config.integration.frame_dt)
              for path, drive, seed, p0, v0, world in zip(paths, batch.drives, batch.seeds, batch.positions,
                                                          batch.velocities, batch.disturbances)]
     return RecorderProcess(specs, BlockShape(batch.arms, block_frames, config.camera.height, config.camera.width,
