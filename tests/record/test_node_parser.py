@@ -4,12 +4,15 @@ orjson reads them) any other: checked against orjson on awkward numbers and on a
 import numpy as np
 import orjson
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from mcap.reader import make_reader
 
 from softarm.errors import RecordingError
 from softarm.record import decode
 from softarm.record.format import NODES
 from softarm.record.reader import read_recording
+from tests.helpers.fuzz import damaged
 
 pytestmark = pytest.mark.skipif(decode.native is None, reason="the C node parser was not built (no C compiler)")
 
@@ -79,3 +82,27 @@ def test_a_recording_reads_the_same_with_and_without_the_parser(recordings, monk
     slow = read_recording(recordings / "s0.mcap").positions
     assert fast.shape == slow.shape and fast.shape[1:] == (57, 2) and fast.flags.writeable
     np.testing.assert_array_equal(fast, slow)
+
+
+def test_damaged_messages_are_read_as_orjson_reads_them_or_left_to_it():
+    """Hypothesis damages newline-joined messages (tests/helpers/fuzz.py); whatever the parser accepts must be
+    exactly what orjson reads from each line, and both outcomes must occur."""
+    rng = np.random.default_rng(1)
+    joined = b"\n".join(messages_of(np.round(rng.normal(0, 0.05, (4, 3, 2)), 9)))
+    outcomes: list[bool] = []
+
+    @settings(max_examples=400, deadline=None, derandomize=True, database=None,
+              suppress_health_check=[HealthCheck.too_slow])
+    @given(data=st.data())
+    def case(data):
+        text = data.draw(damaged(joined))
+        parsed = decode.native.positions(text, 4, 3)
+        outcomes.append(parsed is not None)
+        if parsed is not None:
+            lines = [orjson.loads(line) for line in text.split(b"\n")]
+            assert [sorted(line) for line in lines] == [["positions", "t"]] * 4
+            np.testing.assert_array_equal(np.frombuffer(parsed, np.float64).reshape(4, 3, 2),
+                                          np.array([line["positions"] for line in lines], np.float64))
+
+    case()
+    assert any(outcomes) and not all(outcomes), f"{sum(outcomes)} read of {len(outcomes)}"
