@@ -18,6 +18,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from softarm.model.autoencoder import Autoencoder
+from softarm.model.cells import Dense
 
 Layer = Callable[[torch.Tensor], torch.Tensor]
 
@@ -69,8 +70,7 @@ def dense(module: nn.Module) -> Callable[[np.ndarray], np.ndarray]:
     """One of the fully connected layers before the feature map, in NumPy (a float32 matrix-vector product there
     costs 0.4 of `F.linear`'s at one code)."""
     if isinstance(module, nn.Linear):
-        weight, bias = np.ascontiguousarray(module.weight.detach().numpy().T), module.bias.detach().numpy()
-        return lambda x: x @ weight + bias
+        return Dense(module)
     if isinstance(module, nn.ReLU):
         return lambda x: np.maximum(x, 0.0, dtype=np.float32)
     raise TypeError(f"the frame decoder cannot run a {type(module).__name__} before the feature map")

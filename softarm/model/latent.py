@@ -17,7 +17,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from softarm.config import TrainConfig
-from softarm.model.cells import Cell, cell_of
+from softarm.model.cells import Cell, Readout, cell_of
 from softarm.model.prediction import Prediction
 
 StepLoss = tuple[torch.Tensor, float, int]   # (loss to minimise, loss to report, items it covers)
@@ -95,6 +95,10 @@ class LatentModel(nn.Module):
     def cell(self) -> Cell:
         """A NumPy step of this model's recurrent layer (`core`), for the online readers."""
         return cell_of(self.rnn)
+
+    def readout(self) -> Readout:
+        """Its latent and error heads in NumPy, for the online readers."""
+        return Readout(self.head, self.error.net)
 
     @property
     def first_frame(self) -> int:

@@ -14,7 +14,6 @@ from torch import nn
 
 from softarm.config import TrainConfig
 from softarm.model import pieces
-from softarm.model.cells import Readout
 from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries, detached
 from softarm.model.prediction import Prediction
 
@@ -111,7 +110,7 @@ class StreamReader(OnlineReader):
     def __init__(self, model: StreamModel):
         self.model = model
         self.cell = model.cell()
-        self.readout = Readout(model.head, model.error.net)
+        self.readout = model.readout()
         self.samples = 0
 
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:

@@ -11,7 +11,6 @@ import torch
 
 from softarm.config import TrainConfig
 from softarm.model.autoencoder import in_batches
-from softarm.model.cells import Readout
 from softarm.model.latent import LatentModel, OnlineReader, Order, Step, TrainingSeries
 from softarm.model.prediction import Prediction
 from softarm.model.windows import input_windows, window_count
@@ -93,7 +92,7 @@ class WindowReader(OnlineReader):
         self.model = model
         self.window: deque[np.ndarray] = deque(maxlen=model.history)
         self.cell = model.cell()
-        self.readout = Readout(model.head, model.error.net)
+        self.readout = model.readout()
 
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
         self.window.append(sample)
