@@ -21,12 +21,12 @@ ANSWERS = ("model", "ridge", "mean_frame", "ae_ceiling")
 PRIVILEGED = "ridge_nodes"
 
 
-def score_answers(imaginer: Imaginer, baselines: Baselines, truth: np.ndarray, predicted: np.ndarray,
+def score_answers(imaginer: Imaginer, baselines: Baselines, truth: np.ndarray, answer: np.ndarray,
                   windows: np.ndarray, true_latents: np.ndarray, pixels_per_metre: float) -> dict[str, dict[str, np.ndarray]]:
     """Per-frame scores (`metrics.frame_scores`) of each answer for the frames `truth` (M, H, W): the model's
-    normalised latents `predicted` (M, K), the ridge map of the normalised input `windows` (M, history, F),
-    the mean frame and the decoded `true_latents` (M, K, normalised)."""
-    probabilities = {"model": imaginer.decode(predicted),
+    pixel probabilities `answer` (M, H, W; decoded by the caller, who may need them again), the ridge map of the
+    normalised input `windows` (M, history, F), the mean frame and the decoded `true_latents` (M, K, normalised)."""
+    probabilities = {"model": answer,
                      "ridge": imaginer.decode(ridge_predict(baselines.ridge, windows)),
                      "mean_frame": np.broadcast_to(baselines.mean_frame, truth.shape),
                      "ae_ceiling": imaginer.decode(true_latents)}

@@ -36,11 +36,13 @@ class Trust:
         """(M, K) the spread of the normalised latent this way predicts."""
         raise NotImplementedError
 
-    def reference_iou(self, prediction: Prediction, decode: Decode, rng: np.random.Generator) -> np.ndarray:
+    def reference_iou(self, prediction: Prediction, answer: np.ndarray, decode: Decode,
+                      rng: np.random.Generator) -> np.ndarray:
         """(M,) the IoU a calibrated predictor with this spread would score: the truth drawn as the answer plus an
-        error from the predicted variance, both drawn through the decoder."""
+        error from the predicted variance, drawn through the decoder; `answer` (M, H, W) is the prediction's
+        latents decoded (every way shares it)."""
         truth = prediction.latents + rng.standard_normal(prediction.latents.shape) * np.sqrt(self.variance(prediction))
-        return iou_per_frame(decode(prediction.latents), decode(truth) >= 0.5)
+        return iou_per_frame(answer, decode(truth) >= 0.5)
 
 
 class ErrorHeadTrust(Trust):
@@ -97,7 +99,8 @@ class CalibratedTrust(Trust):
     def confidence(self, prediction: Prediction) -> np.ndarray:
         return as_iou(self.predicted(prediction))
 
-    def reference_iou(self, prediction: Prediction, decode: Decode, rng: np.random.Generator) -> np.ndarray:
+    def reference_iou(self, prediction: Prediction, answer: np.ndarray, decode: Decode,
+                      rng: np.random.Generator) -> np.ndarray:
         """The IoU drawn from this way's own predicted distribution: its residual spread around its prediction."""
         return np.clip(1.0 + self.MARGIN - np.exp(self.predicted(prediction) + self.spread * rng.standard_normal(
             len(prediction.latents))), 0.0, 1.0)

@@ -84,12 +84,13 @@ class CaseScorer:
         ceiling = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, truth))
         prediction = imaginer.predict(reading.inputs)
         rec, baselines = reading.recording, self.model.baselines
-        scores = score_answers(imaginer, baselines, truth, prediction.latents, windows, ceiling, rec.pixels_per_metre)
+        answer = imaginer.decode(prediction.latents)
+        scores = score_answers(imaginer, baselines, truth, answer, windows, ceiling, rec.pixels_per_metre)
         if baselines.nodes is not None:
             scores[PRIVILEGED] = score_node_ridge(imaginer, baselines, reading.inputs, targets, truth, rec.model,
                                                   rec.pixels_per_metre)
         rng = np.random.default_rng(0)
-        methods = {trust.name: (trust.confidence(prediction), trust.reference_iou(prediction, imaginer.decode, rng))
+        methods = {trust.name: (trust.confidence(prediction), trust.reference_iou(prediction, answer, imaginer.decode, rng))
                    for trust in self.ways if trust.available(prediction)}
         surprise = prediction.surprise if prediction.surprise is not None else np.full(len(targets), np.nan)
         free = np.ones(len(rec.model["masses"]), bool)

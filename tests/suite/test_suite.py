@@ -72,18 +72,22 @@ def test_a_level_simulated_again_gives_the_same_files_and_a_written_suite_is_ref
     assert_one_line_error(again, "already holds a suite", "--force")
 
 
-@pytest.fixture(scope="module")
-def small_suite(suite_folder, tmp_path_factory):
-    """Three families, one recording per level, as a suite folder of its own (evaluation in seconds)."""
-    folder = tmp_path_factory.mktemp("small")
+def part_of_suite(suite_folder, folder, families: tuple[str, ...]):
+    """The named families of a written suite, one recording per level, as a suite folder of its own."""
     manifest = json.loads((suite_folder / "suite.json").read_text())
-    manifest["families"] = {name: manifest["families"][name] for name in ("paper_amplitude", "sensor_noise", "push")}
+    manifest["families"] = {name: manifest["families"][name] for name in families}
     for family in manifest["families"].values():
         for level in family["levels"].values():
             level["recordings"] = level["recordings"][:1]
             shutil.copy(suite_folder / level["recordings"][0], folder)
     (folder / "suite.json").write_text(json.dumps(manifest))
     return folder
+
+
+@pytest.fixture(scope="module")
+def small_suite(suite_folder, tmp_path_factory):
+    """Three families (evaluation in seconds)."""
+    return part_of_suite(suite_folder, tmp_path_factory.mktemp("small"), ("paper_amplitude", "sensor_noise", "push"))
 
 
 def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, tiny_checkpoint, tmp_path):
@@ -115,12 +119,12 @@ def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, 
         assert (tmp_path / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_sensor_noise_reaches_the_stretch_answers_and_nothing_else(small_suite, tiny_checkpoint):
+def test_sensor_noise_reaches_the_stretch_answers_and_nothing_else(suite_folder, tiny_checkpoint, tmp_path):
     from softarm.suite.evaluate import evaluate_suite
 
-    clean = evaluate_suite(tiny_checkpoint.checkpoint, small_suite)["families"]["paper_amplitude"]
-    noisy = evaluate_suite(tiny_checkpoint.checkpoint, small_suite,
-                           sensor_noise={"noise": 1e-2})["families"]["paper_amplitude"]
+    calm = part_of_suite(suite_folder, tmp_path, ("paper_amplitude",))  # one family: two evaluations in seconds
+    clean = evaluate_suite(tiny_checkpoint.checkpoint, calm)["families"]["paper_amplitude"]
+    noisy = evaluate_suite(tiny_checkpoint.checkpoint, calm, sensor_noise={"noise": 1e-2})["families"]["paper_amplitude"]
     assert noisy["baselines"]["ridge"]["iou"] < clean["baselines"]["ridge"]["iou"] - 0.05  # 10 mm of noise hurts
     assert noisy["iou"] != clean["iou"]
     for camera_side in ("mean_frame", "ae_ceiling"):

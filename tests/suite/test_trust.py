@@ -38,7 +38,7 @@ def test_the_calibrated_reference_sees_what_its_spread_implies():
     decode = lambda z: np.repeat((np.arange(10) < z[:, :1] * 5 + 5)[:, None, :], 3, axis=1).astype(float)  # noqa: E731
     def reference(variance: float) -> np.ndarray:
         prediction = Prediction(np.arange(400), np.full((400, 2), 0.1), np.full((400, 2), np.log(variance)))
-        return ErrorHeadTrust().reference_iou(prediction, decode, np.random.default_rng(0))
+        return ErrorHeadTrust().reference_iou(prediction, decode(prediction.latents), decode, np.random.default_rng(0))
 
     assert (reference(1e-12) == 1).all()
     assert reference(1.0).mean() < reference(0.01).mean() < 1
