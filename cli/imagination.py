@@ -9,7 +9,7 @@ from softarm_cli.options import Checkpoint, Force, Quiet, SensorNoise
 from softarm_cli.progress import LazyProgress
 from softarm_cli.tables import replay_table, suite_table
 
-from softarm.sense.reading import parse_imperfections
+from softarm.sense.imperfections import parse_imperfections
 
 
 def replay(

@@ -68,3 +68,25 @@ class SensorModel:
         start = int(np.searchsorted(times, self.dropout_time, side="left"))
         if start < len(times):
             out[start:, self.dropout_sensor] = out[max(start - 1, 0), self.dropout_sensor]
+
+
+IMPERFECTIONS = tuple(f.name for f in fields(SensorModel))  # the [sensing] keys but pairs
+
+
+def parse_imperfections(text: str) -> dict[str, float]:
+    """'noise=2e-5,drift=1e-6' -> {"noise": 2e-05, "drift": 1e-06}: a sensor model given on a command line.
+
+    The keys are those of the [sensing] config section but `pairs` (the network was built for its pairs).
+    """
+    out: dict[str, float] = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        key, sep, value = item.partition("=")
+        key = key.strip()
+        if not sep or key not in IMPERFECTIONS:
+            raise ConfigError(f"--sensor-noise {item!r}: give KEY=VALUE with KEY one of {', '.join(IMPERFECTIONS)}")
+        try:
+            number = float(value)
+        except ValueError:
+            raise ConfigError(f"--sensor-noise {item!r}: {value.strip()!r} is not a number") from None
+        out[key] = int(number) if key in ("dropout_sensor", "seed") and number.is_integer() else number
+    return out

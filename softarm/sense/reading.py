@@ -5,21 +5,16 @@ Training, replay and evaluation all read through `sensed_stretch`, so a checkpoi
 exactly the kind of signal it was trained on, unless a caller asks for another sensor model.
 """
 
-from dataclasses import fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from softarm.config import SensingConfig
-from softarm.errors import ConfigError
 from softarm.sense.imperfections import SensorModel
 from softarm.sense.pairs import recording_stretch
 
 if TYPE_CHECKING:
     from softarm.record.reader import Recording
-
-IMPERFECTIONS = tuple(f.name for f in fields(SensorModel))  # the [sensing] keys but pairs
-
 
 def sensed_stretch(recording: "Recording", sensing: SensingConfig) -> np.ndarray:
     """(T, P) float64 readings of `recording` as `sensing` reads them."""
@@ -35,22 +30,3 @@ def needs_nodes(sensing: SensingConfig) -> bool:
 def sensor_count(model: dict[str, Any], sensing: SensingConfig) -> int:
     """How many signals a learner reads from a recording with this model document."""
     return len(sensing.pairs) if sensing.pairs else len(model["sensors"])
-
-
-def parse_imperfections(text: str) -> dict[str, float]:
-    """'noise=2e-5,drift=1e-6' -> {"noise": 2e-05, "drift": 1e-06}: a sensor model given on a command line.
-
-    The keys are those of the [sensing] config section but `pairs` (the network was built for its pairs).
-    """
-    out: dict[str, float] = {}
-    for item in filter(None, (part.strip() for part in text.split(","))):
-        key, sep, value = item.partition("=")
-        key = key.strip()
-        if not sep or key not in IMPERFECTIONS:
-            raise ConfigError(f"--sensor-noise {item!r}: give KEY=VALUE with KEY one of {', '.join(IMPERFECTIONS)}")
-        try:
-            number = float(value)
-        except ValueError:
-            raise ConfigError(f"--sensor-noise {item!r}: {value.strip()!r} is not a number") from None
-        out[key] = int(number) if key in ("dropout_sensor", "seed") and number.is_integer() else number
-    return out
