@@ -105,6 +105,6 @@ def scored_answers(state: TrainState, baselines: Baselines, imaginer: Imaginer, 
     keep = np.flatnonzero(chosen)[evenly(int(chosen.sum()), MAX_SCORED)]
     windows, targets, predicted = windows[keep], targets[keep], prediction.latents[keep]
     true_latent = imaginer.latent_scaler.forward(state.codes().of(targets))
-    scores = score_answers(imaginer, baselines, data.target_frames(targets), imaginer.decode(predicted), state.inputs.normalise(windows),
-                           true_latent, data.pixels_per_metre)
+    scores = score_answers(imaginer, baselines, data.target_frames(targets), imaginer.decode(predicted),
+                           state.inputs.normalise(windows), true_latent, data.pixels_per_metre)
     return {name: summarise(per_frame) for name, per_frame in scores.items()}, float(np.mean((predicted - true_latent) ** 2))

@@ -16,6 +16,7 @@ from softarm.sense.pairs import recording_stretch
 if TYPE_CHECKING:
     from softarm.record.reader import Recording
 
+
 def sensed_stretch(recording: "Recording", sensing: SensingConfig) -> np.ndarray:
     """(T, P) float64 readings of `recording` as `sensing` reads them."""
     ideal = recording_stretch(recording, sensing.pairs)
