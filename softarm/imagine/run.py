@@ -43,13 +43,13 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
     checkpoint was trained with (keys of the [sensing] config section). Every output is checked before the replay
     starts, so a refused path costs nothing; each is written whole or not at all.
     """
-    from softarm.imagine.replay import compute_replay  # torch loads here, not when softarm is imported
-
     start = time.perf_counter()
-    ranges = parse_blind(blind)  # bad input first: a refused run creates no folder
+    ranges = parse_blind(blind)  # bad input first: a refused run creates no folder and loads no torch
     span = parse_blind([png_span], "--png-span")[0] if png_span is not None else None
     outputs = [Path(p) for p in (rrd, mcap, png) if p is not None]
     check_outputs(outputs, force, inputs=[checkpoint, recording])
+    from softarm.imagine.replay import compute_replay  # torch loads here, not when softarm is imported
+
     with made_folders(outputs), claimed(outputs):
         result = compute_replay(checkpoint, recording, ranges, nodes=rrd is not None or spawn, sensor_noise=sensor_noise)
         write_outputs(result, rrd, mcap, png, spawn, span)
