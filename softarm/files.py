@@ -49,6 +49,16 @@ def check_outputs(outputs: Sequence[PathLike], force: bool, inputs: Sequence[Pat
         check_writable_folder(path)
 
 
+def input_file(path: PathLike, kind: str, error: type[Exception]) -> Path:
+    """`path` as an input that must be a file (a `kind`, named in the message): a missing one or a folder is
+    refused by `error` in one line, before any heavy work loads."""
+    path = Path(path)
+    if not path.is_file():
+        raise error(f"{kind} {path} not found" if not path.exists() else
+                    f"{path} is a folder, not a {kind}" if path.is_dir() else f"{path} is not a file")
+    return path
+
+
 def check_writable_folder(path: Path) -> None:
     """The folder of `path` exists and can be written, or can be made where the nearest existing one is."""
     parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))

@@ -9,7 +9,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional, Sequence, Union
 
-from softarm.files import check_outputs, claimed, made_folders
+from softarm.errors import CheckpointError
+from softarm.files import check_outputs, claimed, input_file, made_folders
 from softarm.imagine.blind import parse_blind
 from softarm.imagine.recording import write_imagination
 
@@ -43,11 +44,15 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
     checkpoint was trained with (keys of the [sensing] config section). Every output is checked before the replay
     starts, so a refused path costs nothing; each is written whole or not at all.
     """
+    from softarm.record.reader import read_model
+
     start = time.perf_counter()
     ranges = parse_blind(blind)  # bad input first: a refused run creates no folder and loads no torch
     span = parse_blind([png_span], "--png-span")[0] if png_span is not None else None
     outputs = [Path(p) for p in (rrd, mcap, png) if p is not None]
     check_outputs(outputs, force, inputs=[checkpoint, recording])
+    input_file(checkpoint, "checkpoint", CheckpointError)
+    read_model(recording)  # a missing, foreign or damaged recording too (its metadata only)
     from softarm.imagine.replay import compute_replay  # torch loads here, not when softarm is imported
 
     with made_folders(outputs), claimed(outputs):

@@ -13,8 +13,8 @@ from typing import Any, Optional, Union
 
 import numpy as np
 
-from softarm.errors import ConfigError, RecordingError
-from softarm.files import check_outputs, claimed, made_folders
+from softarm.errors import CheckpointError, ConfigError, RecordingError
+from softarm.files import check_outputs, claimed, input_file, made_folders
 
 PathLike = Union[str, Path]
 
@@ -30,7 +30,11 @@ def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLi
     """Fine-tune the latent models to `seconds` of `recording`'s camera from `start` and save the result in `out`."""
     if not (np.isfinite(seconds) and seconds > 0):
         raise ConfigError(f"--seconds {seconds:g}: give a finite, positive number of seconds of camera")
+    from softarm.record.reader import read_model
+
     check_outputs([Path(out)], force, inputs=[checkpoint, recording])
+    input_file(checkpoint, "checkpoint", CheckpointError)  # missing inputs are refused before torch loads
+    read_model(recording)
     from softarm.learn.adapt import Window, adapt_models
     from softarm.model.checkpoint import save_checkpoint
     from softarm.model.metrics import iou_per_frame

@@ -96,6 +96,8 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     within a batch; the checkpoint of the last finished epoch stays (`complete` False). `inputs` (a config
     file, say) are files besides the recordings that no output may replace.
     """
+    from softarm.record.reader import read_model
+
     start = time.perf_counter()
     check_minutes(minutes)
     config = config if config is not None else load_config()
@@ -104,6 +106,8 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     out = Path(out) if out is not None else default_checkpoint(recordings)
     recordings, manifests = expand_folders(recordings)
     check_train_outputs(out, rrd, resume, force, [*recordings, *manifests, *inputs])
+    for recording in recordings:  # a missing, foreign or damaged one is refused before torch loads (metadata only)
+        read_model(recording)
     outputs = train_outputs(out, rrd)
     try:
         with stop_on_signal() as caught, made_folders(outputs), claimed(outputs):

@@ -15,7 +15,7 @@ import torch
 from softarm.config import Config, config_from_dict, load_config
 from softarm.config.load import merge
 from softarm.errors import CheckpointError, SoftarmError
-from softarm.files import atomic_path
+from softarm.files import atomic_path, input_file
 from softarm.model.contents import check_contents
 
 FORMAT = "softarm-checkpoint/2"
@@ -31,9 +31,7 @@ def save_checkpoint(path: Union[str, Path], state: dict[str, Any]) -> Path:
 
 def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:
     """The checkpoint's contents; a missing, foreign or damaged file raises CheckpointError."""
-    path = Path(path)
-    if not path.is_file():
-        raise CheckpointError(f"checkpoint {path} not found" if not path.exists() else f"{path} is not a file")
+    path = input_file(path, "checkpoint", CheckpointError)
     try:
         state = torch.load(path, map_location="cpu", weights_only=True)
     except Exception as e:  # a damaged file fails anywhere in torch's unpickler or zip reader, in any way

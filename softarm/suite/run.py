@@ -3,7 +3,8 @@
 from pathlib import Path
 from typing import Any, Optional, Union
 
-from softarm.files import check_outputs, claimed, made_folders, write_json
+from softarm.errors import CheckpointError
+from softarm.files import check_outputs, claimed, input_file, made_folders, write_json
 from softarm.suite.evaluate import Progress, evaluate_suite
 from softarm.suite.manifest import MANIFEST, read_suite
 
@@ -19,6 +20,7 @@ def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike
     outputs = [Path(p) for p in (json_path, png, trust_png) if p is not None]
     cases = read_suite(suite).cases  # a missing or damaged suite is refused before any work
     check_outputs(outputs, force, inputs=[checkpoint, Path(suite) / MANIFEST, *(case.path for case in cases)])
+    input_file(checkpoint, "checkpoint", CheckpointError)  # before torch loads
     with made_folders(outputs), claimed(outputs):
         evaluation = evaluate_suite(checkpoint, suite, sensor_noise=sensor_noise, progress=progress)
         if json_path is not None:
