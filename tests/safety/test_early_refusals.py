@@ -2,13 +2,12 @@
 second, not after the seconds a network library takes to import. Checked in a fresh interpreter, by whether torch
 is among its modules once the call has been refused."""
 
-import json
 import subprocess
 import sys
 
 import pytest
 
-from softarm.suite.families import SUITE_VERSION
+from tests.helpers.suites import mini_suite
 
 CALLS = {  # the call, and what its refusal names
     "replay, missing recording": ("from softarm.imagine.run import replay; replay(CKPT, 'missing.mcap')",
@@ -27,11 +26,7 @@ CALLS = {  # the call, and what its refusal names
 
 @pytest.mark.parametrize("call, words", list(CALLS.values()), ids=list(CALLS))
 def test_a_slip_is_refused_before_torch_loads(recordings, tiny_checkpoint, call, words, tmp_path):
-    suite = tmp_path / "suite"
-    suite.mkdir()
-    (suite / "s0.mcap").write_bytes((recordings / "s0.mcap").read_bytes())
-    (suite / "suite.json").write_text(json.dumps({"suite": SUITE_VERSION, "families": {"paper_amplitude": {"probes": "p", "levels": {
-        "x": {"overrides": {}, "sensing": {}, "seeds": [0], "recordings": ["s0.mcap"]}}}}}))
+    suite = mini_suite(tmp_path / "suite", recordings / "s0.mcap")
     program = (f"import sys\nCKPT, REC, SUITE = {str(tiny_checkpoint.checkpoint)!r}, {str(recordings / 's0.mcap')!r}, "
                f"{str(suite)!r}\nfrom softarm.errors import SoftarmError\ntry:\n    {call}\nexcept SoftarmError as e:\n"
                f"    print('refused:', e)\nprint('torch' in sys.modules)")

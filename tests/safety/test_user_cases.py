@@ -15,6 +15,7 @@ import pytest
 from softarm.record.reader import read_recording
 from softarm.suite.families import SUITE_VERSION
 from tests.helpers.cli import SOFTARM, assert_one_line_error, softarm
+from tests.helpers.suites import mini_suite
 
 TINY_TRAIN = ["--epochs-ae", "1", "--epochs-lstm", "1", "--latent", "8", "-q"]
 
@@ -32,16 +33,6 @@ def rec(recordings, tmp_path) -> Path:
 @pytest.fixture
 def ckpt(tiny_checkpoint, tmp_path) -> Path:
     return Path(shutil.copy(tiny_checkpoint.checkpoint, tmp_path / "m.pt"))
-
-
-def mini_suite(folder: Path, recording: Path) -> Path:
-    """A suite folder of one family and one recording, as `softarm suite` lays it out."""
-    folder.mkdir()
-    shutil.copy(recording, folder / "a.mcap")
-    (folder / "suite.json").write_text(json.dumps({"suite": SUITE_VERSION, "families": {"paper_amplitude": {
-        "probes": "the paper's drive", "levels": {"x": {"overrides": {}, "sensing": {}, "seeds": [1],
-                                                        "recordings": ["a.mcap"]}}}}}))
-    return folder
 
 
 def test_outputs_never_replace_an_input(rec, ckpt, tmp_path):
