@@ -1,8 +1,10 @@
 """Taichi simulator: many arms stepped together by semi-implicit Euler (docs/model.md, Forces, Integration).
 
-One kernel launch advances every arm a block of frames. The outer loop runs over arms in parallel;
-one arm's substeps are a tight serial loop, because ~160 springs are too few to split across threads
-on a CPU. Fields have the arm (batch) dimension first.
+One kernel launch advances every arm a block of frames. The outer loop runs over groups of arms in parallel;
+a group's substeps are a tight serial loop, because ~160 springs are too few to split across threads on a CPU,
+and within it the group's arms (lanes) are stepped side by side, which the compiler vectorises
+(sim/forces.py). Fields are indexed [arm, node], the batch dimension first; in memory a group's arms lie next
+to each other for every node and coordinate.
 """
 
 from functools import partial
@@ -22,7 +24,7 @@ from softarm.sim.exchange import read_scalars, read_states, write_scalars
 from softarm.sim.forces import accumulate_forces, first_far_node, substep
 from softarm.sim.load import load
 from softarm.sim.muscle_fields import MuscleFields, relax
-from softarm.sim.runtime import device_array, host, task_layout, upload
+from softarm.sim.runtime import device_array, host, lane_layout, task_layout, upload
 from softarm.sim.world import WorldFields, pack
 
 f64nd = ti.types.ndarray(dtype=ti.f64, ndim=4)
@@ -60,13 +62,16 @@ class Simulator:
         self.direction = ti.Vector.field(2, ti.f64, shape=())
         self.free = ti.field(ti.i32)
         builder = ti.FieldsBuilder()
-        builder.dense(ti.ij, (arms, n)).place(self.x, self.v, self.force)
+        self.lanes, groups = lane_layout(arms)
+        for field in (self.x, self.v, self.force):
+            for c in range(2):
+                builder.dense(ti.i, groups).dense(ti.j, n).dense(ti.i, self.lanes).place(field.get_scalar_field(c))
         # Disturbed batches only: every node's mass with its active payloads, and the slots (an undisturbed
         # batch's kernel never reads them, so it does not pay for making them)
         self.inertia, self.world = self.mass, None
         if self.disturbed:
             self.inertia = ti.field(ti.f64)
-            builder.dense(ti.ij, (arms, n)).place(self.inertia)
+            builder.dense(ti.i, groups).dense(ti.j, n).dense(ti.i, self.lanes).place(self.inertia)
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
@@ -86,7 +91,7 @@ class Simulator:
         self._positions = device_array((arms, block_frames, n, 2), "float64")
         self._status = upload(np.full((arms, 2), -1, np.int32))
         self.history = host(self._positions)
-        self._tasks = task_layout(arms)
+        self._tasks = task_layout(groups)
 
     def _attach(self, muscles: Optional[Muscles], arms: int, n: int) -> None:
         """The muscles' fields (only with groups) and the arrays a controller reads the state through."""
@@ -109,42 +114,54 @@ class Simulator:
     def _advance(self, positions: f64nd, status: i32nd, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
                  frame_dt: ti.f64,
                  blowup_distance: ti.f64, gx: ti.f64, gy: ti.f64, kind: ti.i32, tasks: ti.i32, spacing: ti.i32,
-                 decay: ti.f64, disturbed: ti.template(), muscled: ti.template()):
+                 decay: ti.f64, lanes: ti.template(), disturbed: ti.template(), muscled: ti.template()):
         """Record each arm's state as frames first_frame.. into positions[:, :n_frames], stepping between them.
 
-        Task k (at slot k * spacing, see runtime.task_layout) steps arms k, k + tasks, ... in turn.
-        status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a blown-up
-        arm stops stepping. Forces are those of the substep's start, at run time (k substeps + s) h, with the
-        muscles' activations relaxed over the substep first (decay = exp(-h / tau)).
+        Task k (at slot k * spacing, see runtime.task_layout) steps the groups of arms k, k + tasks, ... in turn.
+        status[a] = (-1, -1) while arm a is healthy, else (frame, node) of its first blow-up; a group stops
+        stepping when all its arms blew up (step_block raises on the first). Forces are those of the substep's
+        start, at run time (k substeps + s) h, with the muscles' activations relaxed over the substep first
+        (decay = exp(-h / tau)).
         """
         h = frame_dt / substeps
-        arms = self.x.shape[0]
+        groups = self.x.shape[0] // lanes
         for slot in range(tasks * spacing):
             if slot % spacing == 0:
                 task = slot // spacing
-                for j in range((arms - task + tasks - 1) // tasks):
-                    a = task + j * tasks
+                for j in range((groups - task + tasks - 1) // tasks):
+                    base = (task + j * tasks) * lanes
                     for f in range(n_frames):
-                        for i in range(self.x.shape[1]):
-                            positions[a, f, i, 0] = self.x[a, i][0]
-                            positions[a, f, i, 1] = self.x[a, i][1]
-                        if status[a, 0] < 0:
+                        healthy = 0
+                        for w in ti.static(range(lanes)):
+                            for i in range(self.x.shape[1]):
+                                positions[base + w, f, i, 0] = self.x[base + w, i][0]
+                                positions[base + w, f, i, 1] = self.x[base + w, i][1]
+                            healthy += status[base + w, 0] < 0
+                        if healthy:
                             k = first_frame + f
                             for s in range(substeps):
-                                now = ti.cast(k * substeps + s, ti.f64) / substeps * frame_dt
-                                if ti.static(muscled):
-                                    relax(a, decay, self.actuators)
-                                accumulate_forces(a, now, self.x, self.v, self.force, self.inertia, self.springs,
-                                                  self.spring_params, self.mass, self.free, gx, gy, self.world,
-                                                  disturbed, self.actuators, muscled)
-                                t = ti.cast(k * substeps + s + 1, ti.f64) / substeps * frame_dt + self.time_offset[a]
-                                substep(a, t, h, kind, self.x, self.v, self.force, self.inertia, self.rest, self.mass,
-                                        self.free, self.amplitude, self.freqs, self.amps, self.phases, self.direction,
-                                        disturbed)
-                            far = first_far_node(a, self.x, self.rest, self.free, blowup_distance)
-                            if far >= 0:
-                                status[a, 0] = k + 1
-                                status[a, 1] = far
+                                self._substep(base, lanes, k * substeps + s, substeps, frame_dt, h, gx, gy, kind,
+                                              decay, disturbed, muscled)
+                            for w in ti.static(range(lanes)):
+                                far = first_far_node(base + w, self.x, self.rest, self.free, blowup_distance)
+                                if far >= 0 and status[base + w, 0] < 0:
+                                    status[base + w, 0] = k + 1
+                                    status[base + w, 1] = far
+
+    @ti.func
+    def _substep(self, base: int, lanes: ti.template(), step: int, substeps: int, frame_dt: ti.f64, h: ti.f64,
+                 gx: ti.f64, gy: ti.f64, kind: int, decay: ti.f64, disturbed: ti.template(), muscled: ti.template()):
+        """Substep number `step` of the run for the group of arms base.. (forces at its start, drive at its end)."""
+        now = ti.cast(step, ti.f64) / substeps * frame_dt
+        if ti.static(muscled):
+            for w in ti.static(range(lanes)):
+                relax(base + w, decay, self.actuators)
+        accumulate_forces(base, lanes, now, self.x, self.v, self.force, self.inertia, self.springs,
+                          self.spring_params, self.mass, self.free, gx, gy, self.world, disturbed, self.actuators,
+                          muscled)
+        t = ti.cast(step + 1, ti.f64) / substeps * frame_dt
+        substep(base, lanes, t, h, kind, self.x, self.v, self.force, self.inertia, self.rest, self.mass, self.free,
+                self.amplitude, self.time_offset, self.freqs, self.amps, self.phases, self.direction, disturbed)
 
     def step_block(self, n_frames: int) -> None:
         """Fill `history[:, :n_frames]` with the next n_frames frames and step past them (history is reused:
@@ -155,8 +172,8 @@ class Simulator:
         h = self.frame_dt / self.substeps
         decay = float(np.exp(-h / self.muscles.time_constant)) if self.muscles is not None else 0.0
         self._advance(self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt,
-                      self.blowup_distance, float(gx), float(gy), self.kind, *self._tasks, decay, self.disturbed,
-                      self.muscles is not None)
+                      self.blowup_distance, float(gx), float(gy), self.kind, *self._tasks, decay, self.lanes,
+                      self.disturbed, self.muscles is not None)
         self.history = host(self._positions)
         self.frame += n_frames
         self._raise_on_blowup()

@@ -93,3 +93,19 @@ def task_layout(items: int) -> tuple[int, int]:
     if on_cpu():
         return min(items, ti.lang.impl.current_cfg().cpu_max_num_threads), CPU_TASK_SPACING
     return items, 1
+
+
+MAX_LANES = 4  # arms a CPU thread steps side by side: one 256-bit register of float64 per coordinate
+
+
+def lane_layout(arms: int) -> tuple[int, int]:
+    """(lanes, groups): the simulator steps `groups` groups of `lanes` arms, lanes side by side (vectorised).
+
+    On a CPU, the most lanes (a power of two up to MAX_LANES) that divide the arms and still leave a group for
+    every thread; on a GPU every arm is its own thread (one lane).
+    """
+    lanes = MAX_LANES if on_cpu() else 1
+    threads = ti.lang.impl.current_cfg().cpu_max_num_threads
+    while lanes > 1 and (arms % lanes or arms // lanes < threads):
+        lanes //= 2
+    return lanes, arms // lanes
