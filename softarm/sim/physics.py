@@ -63,15 +63,19 @@ class Simulator:
         self.free = ti.field(ti.i32)
         builder = ti.FieldsBuilder()
         self.lanes, groups = lane_layout(arms)
-        for field in (self.x, self.v, self.force):
-            for c in range(2):
-                builder.dense(ti.i, groups).dense(ti.j, n).dense(ti.i, self.lanes).place(field.get_scalar_field(c))
         # Disturbed batches only: every node's mass with its active payloads, and the slots (an undisturbed
         # batch's kernel never reads them, so it does not pay for making them)
         self.inertia, self.world = self.mass, None
         if self.disturbed:
             self.inertia = ti.field(ti.f64)
-            builder.dense(ti.i, groups).dense(ti.j, n).dense(ti.i, self.lanes).place(self.inertia)
+        # One cell per group and node holds the state of that node of every arm of the group, each coordinate
+        # of the lanes contiguous
+        node = builder.dense(ti.i, groups).dense(ti.j, n)
+        for field in (self.x, self.v, self.force):
+            for c in range(2):
+                node.dense(ti.i, self.lanes).place(field.get_scalar_field(c))
+        if self.disturbed:
+            node.dense(ti.i, self.lanes).place(self.inertia)
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
