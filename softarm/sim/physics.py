@@ -62,20 +62,8 @@ class Simulator:
         self.direction = ti.Vector.field(2, ti.f64, shape=())
         self.free = ti.field(ti.i32)
         builder = ti.FieldsBuilder()
-        self.lanes, groups = lane_layout(arms)
-        # Disturbed batches only: every node's mass with its active payloads, and the slots (an undisturbed
-        # batch's kernel never reads them, so it does not pay for making them)
-        self.inertia, self.world = self.mass, None
-        if self.disturbed:
-            self.inertia = ti.field(ti.f64)
-        # One cell per group and node holds the state of that node of every arm of the group, each coordinate
-        # of the lanes contiguous
-        node = builder.dense(ti.i, groups).dense(ti.j, n)
-        for field in (self.x, self.v, self.force):
-            for c in range(2):
-                node.dense(ti.i, self.lanes).place(field.get_scalar_field(c))
-        if self.disturbed:
-            node.dense(ti.i, self.lanes).place(self.inertia)
+        self.world = None
+        groups = self._place_state(builder, arms, n, plain=not self.disturbed and not (muscles and muscles.count))
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
@@ -96,6 +84,21 @@ class Simulator:
         self._status = upload(np.full((arms, 2), -1, np.int32))
         self.history = host(self._positions)
         self._tasks = task_layout(groups)
+
+    def _place_state(self, builder: ti.FieldsBuilder, arms: int, n: int, plain: bool) -> int:
+        """Place the positions, velocities and forces (and a disturbed batch's inertia: every node's mass with its
+        active payloads) in one cell per group of arms and node, each coordinate of the group's arms contiguous;
+        the number of groups. Only a plain batch (no disturbances, no muscles) is stepped in lanes: the others'
+        per-arm branches do not vectorise, and their unrolled kernels took 3-6x as long to compile."""
+        self.lanes, groups = lane_layout(arms, plain)
+        self.inertia = ti.field(ti.f64) if self.disturbed else self.mass
+        node = builder.dense(ti.i, groups).dense(ti.j, n)
+        for field in (self.x, self.v, self.force):
+            for c in range(2):
+                node.dense(ti.i, self.lanes).place(field.get_scalar_field(c))
+        if self.disturbed:
+            node.dense(ti.i, self.lanes).place(self.inertia)
+        return groups
 
     def _attach(self, muscles: Optional[Muscles], arms: int, n: int) -> None:
         """The muscles' fields (only with groups) and the arrays a controller reads the state through."""

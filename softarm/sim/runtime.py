@@ -98,13 +98,13 @@ def task_layout(items: int) -> tuple[int, int]:
 MAX_LANES = 4  # arms a CPU thread steps side by side: one 256-bit register of float64 per coordinate
 
 
-def lane_layout(arms: int) -> tuple[int, int]:
+def lane_layout(arms: int, plain: bool) -> tuple[int, int]:
     """(lanes, groups): the simulator steps `groups` groups of `lanes` arms, lanes side by side (vectorised).
 
-    On a CPU, the most lanes (a power of two up to MAX_LANES) that divide the arms and still leave a group for
-    every thread; on a GPU every arm is its own thread (one lane).
+    On a CPU, for a plain batch, the most lanes (a power of two up to MAX_LANES) that divide the arms and still
+    leave a group for every thread; otherwise, and on a GPU (every arm its own thread), one lane.
     """
-    lanes = MAX_LANES if on_cpu() else 1
+    lanes = MAX_LANES if on_cpu() and plain else 1
     threads = ti.lang.impl.current_cfg().cpu_max_num_threads
     while lanes > 1 and (arms % lanes or arms // lanes < threads):
         lanes //= 2

@@ -3,67 +3,48 @@ change the speed, never the numbers."""
 
 import numpy as np
 import pytest
+import taichi as ti
 
 from softarm.arm.batch import arm_batch
-from softarm.arm.disturbances import Push
-from softarm.arm.muscles import build_muscles
 from softarm.config import load_config
 from softarm.sim import physics
 from softarm.sim.physics import Simulator
-from tests.sim.test_disturbances import ONE_OF_EACH
 
 ARMS = 8
+EXCITATIONS = {
+    "product_of_sines": {},
+    "sum_of_sines": {"excitation.kind": "sum_of_sines", "excitation.direction": [0.6, 0.8],
+                     "excitation.sum_of_sines.band": [0.4, 3.0], "excitation.sum_of_sines.rms": 0.003},
+}
 
 
 @pytest.fixture
 def four_lanes(monkeypatch):
-    """Groups of four arms (one arm alone in its own), whatever the machine's thread count would choose."""
-    monkeypatch.setattr(physics, "lane_layout", lambda arms: (4, arms // 4) if arms % 4 == 0 else (1, arms))
+    """Groups of four plain arms (one arm alone in its own), whatever the machine's thread count would choose."""
+    monkeypatch.setattr(physics, "lane_layout",
+                        lambda arms, plain: (4, arms // 4) if plain and arms % 4 == 0 else (1, arms))
 
 
-def alone(config, seed, muscles=None, commands=None, frames=120):
-    sim = Simulator.from_config(config, arm_batch(config, seeds=[seed]), muscles=muscles)
-    assert sim.lanes == 1
-    out = run(sim, commands, frames)[0]
-    sim.close()
-    return out
-
-
-def run(sim, commands, frames):
-    if commands is None:
-        return sim.advance(frames)
-    out = []
-    for u in commands:
-        sim.command(u)
-        out.append(sim.advance(1))
-    return np.concatenate(out, axis=1)
-
-
-def test_a_group_of_disturbed_and_undisturbed_arms_equals_each_arm_alone(four_lanes):
-    config = load_config(overrides={"world.random": [
-        {"kind": "push", "share": 0.5, "count": [1, 2], "start": [0.1, 0.8], "duration": [0.05, 0.2],
-         "force": [0.05, 0.3], "rows": [10, 18]}], "disturbances": [ONE_OF_EACH[k] for k in ("stiffness", "payload", "obstacle")],
-        "run.arms": ARMS, "run.seed": 2, "excitation.amplitude": 0.006})
-    batch = arm_batch(config)
-    pushed = [any(d.code == Push.code for d in arm) for arm in batch.disturbances]
-    assert any(pushed) and not all(pushed)
-    sim = Simulator.from_config(config, batch)
+@pytest.mark.parametrize("excitation", list(EXCITATIONS))
+def test_a_group_of_arms_equals_each_arm_alone(four_lanes, excitation):
+    config = load_config(overrides=EXCITATIONS[excitation])
+    sim = Simulator.from_config(config, arm_batch(config, seeds=range(ARMS)))
     assert sim.lanes == 4
-    together = sim.advance(120)
+    together = sim.advance(150)
     sim.close()
-    for a in {pushed.index(True), pushed.index(False), ARMS - 1}:  # pushed, not pushed, the last lane of the last group
-        np.testing.assert_array_equal(together[a], alone(config, batch.seeds[a]))
+    for a in (2, ARMS - 1):  # a middle lane of the first group, the last lane of the last
+        alone = Simulator.from_config(config, arm_batch(config, seeds=[a]))
+        assert alone.lanes == 1
+        np.testing.assert_array_equal(together[a], alone.advance(150)[0])
+        alone.close()
     assert np.abs(together[1] - together[0]).max() > 1e-3  # the arms really differ
 
 
-def test_a_group_of_commanded_arms_equals_each_arm_alone(four_lanes):
-    config = load_config(overrides={"excitation.amplitude": 0.003})
-    batch = arm_batch(config, seeds=range(ARMS))
-    muscles = build_muscles(config, batch.body)
-    commands = np.random.default_rng(5).uniform(0, 1, (12, ARMS, muscles.count)).repeat(5, axis=0)
-    sim = Simulator.from_config(config, batch, muscles=muscles)
-    assert sim.lanes == 4
-    together = run(sim, commands, 0)
-    sim.close()
-    for a in (2, ARMS - 1):
-        np.testing.assert_array_equal(together[a], alone(config, a, muscles, commands[:, a:a + 1]))
+def test_only_a_plain_batch_of_enough_arms_is_stepped_in_lanes():
+    config = load_config(overrides={"disturbances": [{"kind": "payload", "start": 0.1, "mass": 0.01, "nodes": [56]}]})
+    threads = ti.lang.impl.current_cfg().cpu_max_num_threads
+    plain, disturbed = (Simulator.from_config(c, arm_batch(c, seeds=range(4 * threads)))
+                        for c in (load_config(), config))
+    assert (plain.lanes, disturbed.lanes) == (4, 1)
+    plain.close()
+    disturbed.close()
