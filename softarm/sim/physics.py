@@ -3,7 +3,7 @@
 One kernel launch advances every arm a block of frames. The outer loop runs over groups of arms in parallel;
 a group's substeps are a tight serial loop, because ~160 springs are too few to split across threads on a CPU,
 and within it the group's arms (lanes) are stepped side by side, which the compiler vectorises
-(sim/forces.py). Fields are indexed [arm, node], the batch dimension first; in memory a group's arms lie next
+(sim/forces.py; batches without disturbances or muscles, see Simulator._place_state). Fields are indexed [arm, node], the batch dimension first; in memory a group's arms lie next
 to each other for every node and coordinate.
 """
 
