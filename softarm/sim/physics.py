@@ -3,8 +3,9 @@
 One kernel launch advances every arm a block of frames. The outer loop runs over groups of arms in parallel;
 a group's substeps are a tight serial loop, because ~160 springs are too few to split across threads on a CPU,
 and within it the group's arms (lanes) are stepped side by side, which the compiler vectorises
-(sim/forces.py; batches without disturbances or muscles, see Simulator._place_state). Fields are indexed [arm, node], the batch dimension first; in memory a group's arms lie next
-to each other for every node and coordinate.
+(sim/forces.py; batches without disturbances or muscles, see Simulator._place_state). Fields are indexed
+[arm, node], the batch dimension first; in memory a group's arms lie next to each other for every node and
+coordinate.
 """
 
 from functools import partial
@@ -61,17 +62,16 @@ class Simulator:
         self.freqs, self.amps, self.phases = (ti.field(ti.f64) for _ in range(3))
         self.direction = ti.Vector.field(2, ti.f64, shape=())
         self.free = ti.field(ti.i32)
+        self.muscles = muscles if muscles is not None and muscles.count else None
         builder = ti.FieldsBuilder()
-        self.world = None
-        groups = self._place_state(builder, arms, n, plain=not self.disturbed and not (muscles and muscles.count))
+        groups = self._place_state(builder, arms, n, plain=not self.disturbed and self.muscles is None)
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
         builder.dense(ti.ij, (arms, len(drives[0].frequencies))).place(self.freqs, self.amps, self.phases)
         self._tree = builder.finalize()
-        if self.disturbed:
-            self.world = WorldFields(slots)
-        self._attach(muscles, arms, n)
+        self.world = WorldFields(slots) if self.disturbed else None
+        self._attach(arms, n)
         f64 = partial(np.ascontiguousarray, dtype=np.float64)
         load(self, f64(np.broadcast_to(positions, (arms, n, 2))), f64(np.broadcast_to(velocities, (arms, n, 2))),
              f64(body.rest), f64(body.masses), np.ascontiguousarray(body.free, np.int32),
@@ -100,9 +100,8 @@ class Simulator:
             node.dense(ti.i, self.lanes).place(self.inertia)
         return groups
 
-    def _attach(self, muscles: Optional[Muscles], arms: int, n: int) -> None:
+    def _attach(self, arms: int, n: int) -> None:
         """The muscles' fields (only with groups) and the arrays a controller reads the state through."""
-        self.muscles = muscles if muscles is not None and muscles.count else None
         self.actuators = MuscleFields(self.muscles, arms) if self.muscles is not None else None
         self._state = [device_array((arms, n, 2), "float64") for _ in range(2)]
         self._activation = device_array((arms, self.muscles.count), "float64") if self.muscles is not None else None
