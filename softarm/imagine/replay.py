@@ -50,9 +50,10 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     """
     model = TrainedModel(checkpoint)
     reading = model.read(recording, sensor_noise, nodes)
+    imaginer = model.imaginer_for(reading.config)
     rec = reading.recording
     mask = blind_mask(rec.times, blind)
-    prediction, probs = model.imaginer.imagine(reading.inputs)
+    prediction, probs = imaginer.imagine(reading.inputs)
     targets = prediction.targets
     imagined = np.zeros(rec.frames.shape, np.float32)
     imagined[targets] = probs
@@ -60,10 +61,10 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
     predicted[targets] = True
     scored = predicted & rec.seen  # a camera's gap has nothing to score against
     confidence, surprise = np.full(len(rec.times), np.nan), np.full(len(rec.times), np.nan)
-    confidence[targets] = model.imaginer.confidence(prediction)
+    confidence[targets] = imaginer.confidence(prediction)
     if prediction.surprise is not None:
         surprise[targets] = prediction.surprise
-    alarm = surprise > model.imaginer.surprise.threshold if model.imaginer.surprise is not None else np.zeros(len(surprise), bool)
+    alarm = surprise > imaginer.surprise.threshold if imaginer.surprise is not None else np.zeros(len(surprise), bool)
     fused = rec.frames.astype(np.float32)
     fused[mask] = imagined[mask]
     M = rec.world_to_pixel
@@ -83,7 +84,7 @@ def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
                      "alarm_frames": int(alarm.sum()), "alarms": int((alarm[1:] & ~alarm[:-1]).sum() + alarm[:1].sum())},
     }
     return Replay(recording=rec, checkpoint=model.path, inputs=reading.inputs,
-                  channels=[(c.name, w) for c, w in zip(model.imaginer.inputs.channels, model.imaginer.inputs.widths)],
+                  channels=[(c.name, w) for c, w in zip(imaginer.inputs.channels, imaginer.inputs.widths)],
                   imagined=imagined, predicted=predicted, iou=iou, confidence=confidence, surprise=surprise, alarm=alarm,
                   blind=mask, fused=fused,
                   metrics=metrics,

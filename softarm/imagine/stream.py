@@ -32,11 +32,15 @@ class ImaginedFrame:
 
 class StreamingImaginer:
     @classmethod
-    def from_checkpoint(cls, path: Union[str, Path]) -> "StreamingImaginer":
-        """The streamer of a checkpoint written by `softarm train`."""
+    def from_checkpoint(cls, path: Union[str, Path],
+                        sensor_noise: Optional[dict[str, Any]] = None) -> "StreamingImaginer":
+        """The streamer of a checkpoint written by `softarm train`, for sensors with the imperfections it was
+        trained with, or those of `sensor_noise` (keys of [sensing] but pairs: `{"noise": 2e-5}`), which its
+        surprise then expects (as replay's `--sensor-noise` does)."""
         from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
 
-        return cls(TrainedModel(path).imaginer)
+        model = TrainedModel(path)
+        return cls(model.imaginer_for(model.with_sensors(sensor_noise)))
 
     def __init__(self, imaginer: "Imaginer"):
         from softarm.model.frame_decoder import FrameDecoder  # torch loads here, not when softarm is imported

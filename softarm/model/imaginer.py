@@ -6,7 +6,7 @@ sample at a time, so all of them compute imagination the same way. Raw inputs ar
 float64, and the latent model reads them as float32.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
@@ -89,6 +89,14 @@ class Imaginer:
         return [p.with_surprise(*(a[p.targets - self.latent.lead]
                                   for a in self.surprise.series(n.astype(np.float64), self.latent.states(n))))
                 for p, n in zip(predictions, normalised)]
+
+    def heard_through(self, variance: float) -> "Imaginer":
+        """This imaginer for stretch readings that carry `variance` m^2 more white noise per sample than its
+        training's: its surprise expects that noise (`SurpriseModel.heard_through`); nothing else changes."""
+        if self.surprise is None or variance <= 0.0:
+            return self
+        spread = self.inputs.spread[list(self.surprise.felt)]
+        return replace(self, surprise=self.surprise.heard_through(variance / spread ** 2))
 
     @property
     def confidence(self) -> Callable[[Prediction], np.ndarray]:

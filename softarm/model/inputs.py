@@ -136,6 +136,11 @@ class Inputs:
         """Each channel's scaler from its columns of the training samples (M, F)."""
         return cls(tuple(chosen), tuple(Scaler.fit(part) for part in _columns(training, widths)))
 
+    @property
+    def spread(self) -> np.ndarray:
+        """(F,) the raw standard deviation one unit of each normalised column stands for."""
+        return np.concatenate([scaler.std[scaler.keep] for scaler in self.scalers])
+
     def normalise(self, raw: np.ndarray) -> np.ndarray:
         """(..., F) raw samples -> (..., F) float64, each channel by its own scaler."""
         parts = [scaler.forward(part) for scaler, part in zip(self.scalers, _columns(raw, self.widths))]

@@ -14,10 +14,15 @@ the sample): the surprise is the mean over sensors of the squared residual in un
 spread, divided by that expectation and smoothed over `SMOOTHING` samples. About 1 while the world leaves the
 arm alone; an alarm fires while it exceeds a threshold set for a false-alarm rate on undisturbed motion.
 
+Sensors noisier than those the model was fitted on (`heard_through`) would make every sample surprising. Their
+white noise (and quantisation) is known, so its share is expected too: the residual's extra variance through the
+forward model's weights is added to the expectation, and the noise's share of the vigour averages is taken off
+them before they predict it.
+
 NumPy only: the streamer's surprise costs two small matrix-vector products per sample.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import Any, Optional
 
 import numpy as np
@@ -40,6 +45,30 @@ class SurpriseModel:
     felt: tuple[int, ...]     # the columns of the normalised inputs that are felt (the stretch)
     command: tuple[int, ...]  # the columns that are the command, known one sample ahead
     memory: Optional[MemoryCheck] = None  # how well the latent model's state foresees the stretch (the confidence's)
+    noise: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (P,) or empty: `heard_through`
+
+    def heard_through(self, variance: np.ndarray) -> "SurpriseModel":
+        """This model for readings whose felt columns carry `variance` (P,) more white noise (normalised units
+        squared) than those it was fitted on: a property of the sensors read, so never saved with the model."""
+        return replace(self, noise=np.asarray(variance, np.float64))
+
+    @property
+    def noise_floor(self) -> float:
+        """The mean over sensors of the squared residual the extra noise adds, in units of each sensor's spread:
+        the felt sample's own noise and that of every lagged felt input through its weight."""
+        if not self.noise.size:
+            return 0.0
+        width = (self.weights.shape[0] - len(self.command) - 1) // LAGS
+        rows = [lag * width + c for lag in range(LAGS) for c in self.felt]
+        added = self.noise + np.tile(self.noise, LAGS) @ self.weights[rows] ** 2
+        return float((added / self.scale ** 2).mean())
+
+    @property
+    def inflation(self) -> np.ndarray:
+        """(VIGOURS,) what the extra noise adds to each vigour signal on average: the mean over sensors of its
+        variance through the 2nd and the 1st difference (6 and 2 times it); none to the command's."""
+        mean = float(self.noise.mean()) if self.noise.size else 0.0
+        return np.array([6.0 * mean, 2.0 * mean, 0.0])
 
     def features(self, inputs: np.ndarray) -> np.ndarray:
         """(T - LAGS, LAGS * F + C + 1): what predicts each sample from LAGS on, from a normalised series (T, F)."""
@@ -57,7 +86,7 @@ class SurpriseModel:
     def expected(self, inputs: np.ndarray) -> np.ndarray:
         """(T,) the squared residual the vigour before each sample leads to expect; NaN for the first."""
         out = np.full(len(inputs), np.nan)
-        out[1:] = np.exp(vigour(inputs, self.felt, self.command)[:-1] @ self.spread)
+        out[1:] = np.exp(vigour(inputs, self.felt, self.command, self.inflation)[:-1] @ self.spread) + self.noise_floor
         return out
 
     def series(self, inputs: np.ndarray, states: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
@@ -109,11 +138,15 @@ def vigour_signals(inputs: np.ndarray, felt: tuple[int, ...], command: tuple[int
     return out
 
 
-def vigour(inputs: np.ndarray, felt: tuple[int, ...], command: tuple[int, ...]) -> np.ndarray:
+def vigour(inputs: np.ndarray, felt: tuple[int, ...], command: tuple[int, ...],
+           inflation: Optional[np.ndarray] = None) -> np.ndarray:
     """(T, VIGOURS * len(WINDOWS) + 1) the log vigour after each sample, with a constant: each signal's
-    exponential average over each window, started at its first value (NaN before it)."""
+    exponential average over each window, started at its first value (NaN before it), less its `inflation`
+    (VIGOURS,; the share of noise the model was not fitted with) down to 0."""
     signals = vigour_signals(inputs, felt, command)
-    columns = [np.log(averaged(s, 1.0 / window, first) + FLOOR) for window in WINDOWS for s, first in zip(signals.T, FIRST)]
+    less = np.zeros(VIGOURS) if inflation is None else inflation
+    columns = [np.log(np.maximum(averaged(s, 1.0 / window, first) - c, 0.0) + FLOOR)
+               for window in WINDOWS for s, first, c in zip(signals.T, FIRST, less)]
     return np.column_stack([*columns, np.ones(len(inputs))])
 
 
@@ -157,6 +190,7 @@ class SurpriseReader:
         self.vigour = np.ones(VIGOURS * len(WINDOWS) + 1)
         self.averages = np.full((len(WINDOWS), VIGOURS), np.nan)  # NaN until each signal is defined
         self.rates = 1.0 / np.asarray(WINDOWS)[:, None]
+        self.inflation, self.floor = model.inflation, model.noise_floor
         self.seen = 0
         self.state: Optional[np.ndarray] = None
         self.levels = [float("nan"), float("nan")]  # the surprise's and the memory check's averages
@@ -169,8 +203,8 @@ class SurpriseReader:
         if self.seen >= LAGS:
             x[LAGS * width:-1] = inputs[self.command]
             residual = (inputs[self.felt] - x @ m.weights) / m.scale
-            self.vigour[:-1] = np.log(self.averages.ravel() + FLOOR)
-            values[0] = float(residual @ residual) / len(residual) / float(np.exp(self.vigour @ m.spread))
+            self.vigour[:-1] = np.log(np.maximum(self.averages - self.inflation, 0.0).ravel() + FLOOR)
+            values[0] = float(residual @ residual) / len(residual) / (float(np.exp(self.vigour @ m.spread)) + self.floor)
         if m.memory is not None and self.state is not None and np.isfinite(self.state).all():
             values[1] = m.memory.step(self.state, inputs)
         for i, value in enumerate(values):

@@ -19,6 +19,7 @@ from softarm.model.checkpoint import checkpoint_config, load_checkpoint
 from softarm.model.fits import check_fits, recording_shape
 from softarm.model.imaginer import Imaginer
 from softarm.record.reader import Recording, read_model, read_recording
+from softarm.sense.imperfections import SensorModel
 
 
 @dataclass(frozen=True)
@@ -40,11 +41,21 @@ class TrainedModel:
     def baselines(self) -> Baselines:
         return Baselines.from_checkpoint(self.state)
 
+    def with_sensors(self, sensor_noise: Optional[dict[str, Any]]) -> Config:
+        """The checkpoint's config with `sensor_noise` (keys of [sensing] but pairs) replacing its imperfections."""
+        return override(self.config, {f"sensing.{k}": v for k, v in (sensor_noise or {}).items()})
+
+    def imaginer_for(self, config: Config) -> Imaginer:
+        """The imaginer of readings taken with `config`'s sensors (a `Reading`'s): where they are noisier than
+        those the checkpoint was trained with, its surprise expects the difference."""
+        white = [SensorModel.from_config(c.sensing).white_variance for c in (config, self.config)]
+        return self.imaginer.heard_through(white[0] - white[1])
+
     def read(self, recording: Union[str, Path], sensor_noise: Optional[dict[str, Any]] = None,
              nodes: bool = False) -> Reading:
         """`recording` as the checkpoint reads it, with `sensor_noise` (keys of [sensing] but pairs) replacing
         its imperfections; `nodes` reads the node positions even where no input needs them."""
-        config = override(self.config, {f"sensing.{k}": v for k, v in (sensor_noise or {}).items()})
+        config = self.with_sensors(sensor_noise)
         inputs = self.imaginer.inputs
         expected = (self.state["image_shape"], inputs.widths)
         check_fits(str(recording), recording_shape(read_model(recording), inputs.channels, config), expected,

@@ -33,6 +33,12 @@ class SensorModel:
         return (self.noise == 0 and self.bias == 0 and self.drift == 0 and self.quantisation == 0
                 and self.dropout_sensor < 0)
 
+    @property
+    def white_variance(self) -> float:
+        """The variance, m^2, of the sample-to-sample independent part of the error: the white noise's and the
+        rounding's (a step q adds q^2 / 12); bias and drift change too slowly to count."""
+        return self.noise ** 2 + self.quantisation ** 2 / 12.0
+
     def apply(self, stretch: np.ndarray, times: np.ndarray, stream: int = 0) -> np.ndarray:
         """Imperfect (T, P) float64 readings from ideal ones (T, P) m sampled at times (T,) s.
 

@@ -78,7 +78,7 @@ class CaseScorer:
 
         touches = any(d.get("kind") == "obstacle" for d in read_model(case.path).get("disturbances", []))
         reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing, nodes=touches)
-        imaginer = self.model.imaginer
+        imaginer = self.model.imaginer_for(reading.config)
         windows, targets = imaginer.windows(reading.inputs)
         truth = reading.recording.frames[targets]
         ceiling = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, truth))

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from softarm import StreamingImaginer
+from softarm.imagine.replay import compute_replay
 from softarm.model.surprise import LAGS
 from softarm.model.trained import TrainedModel
 from softarm.record.reader import read_recording
@@ -41,3 +42,22 @@ def test_only_the_stream_model_remembers_samples_older_than_its_window(recording
     changed[:100] += 1e-4  # the first second: frame 110's 6-sample window starts 4 samples later
     frame_110 = [imaginer.predict(s).latents[110 - 6] for s in (stretch, changed)]
     assert (np.abs(frame_110[0] - frame_110[1]).max() > 1e-6) == remembers
+
+
+def test_a_streamer_told_its_sensors_noise_equals_a_replay_told_the_same(recordings, tiny_checkpoint):
+    """Through sensors with 50 um of white noise, replay's --sensor-noise and the streamer built with the same
+    noise give the same surprises and alarms; without being told, the same readings surprise it far more."""
+    noise = {"noise": 5e-5}
+    replayed = compute_replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", nodes=False, sensor_noise=noise)
+    stream = StreamingImaginer.from_checkpoint(tiny_checkpoint.checkpoint, sensor_noise=noise)
+    untold = StreamingImaginer.from_checkpoint(tiny_checkpoint.checkpoint)
+    told, plain = {}, {}
+    for sample in replayed.inputs:
+        for streamer, out in ((stream, told), (untold, plain)):
+            frame = streamer.step(sample)
+            if frame is not None:
+                out[frame.frame] = frame
+    frames = np.flatnonzero(np.isfinite(replayed.surprise))
+    np.testing.assert_allclose([told[k].surprise for k in frames], replayed.surprise[frames], rtol=1e-4, atol=1e-6)
+    assert [told[k].alarm for k in frames] == list(replayed.alarm[frames])
+    assert np.median([plain[k].surprise for k in frames]) > 5 * np.median(replayed.surprise[frames])

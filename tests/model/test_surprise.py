@@ -6,7 +6,7 @@ import numpy as np
 
 from softarm.learn.surprise_fit import fit_surprise
 from softarm.model.alarm import alarm_onsets, alarm_threshold
-from softarm.model.surprise import LAGS, SMOOTHING, smoothed
+from softarm.model.surprise import LAGS, SMOOTHING, smoothed, vigour_signals
 
 DT = 0.01
 FELT, COMMAND = [0, 1], [2]
@@ -104,3 +104,38 @@ def test_smoothing_is_the_exponential_average_and_the_reader_equals_the_series()
     reader = model.online()
     online = [reader.step(x) for x in inputs]
     np.testing.assert_allclose(np.array(online).T, model.series(inputs), rtol=1e-9)
+
+
+def noisier(world: np.ndarray, sigma: float, seed: int) -> np.ndarray:
+    """The same motion read through sensors with `sigma` more white noise on the felt columns."""
+    out = world.copy()
+    out[:, FELT] += np.random.default_rng(seed).normal(0.0, sigma, (len(world), len(FELT)))
+    return out
+
+
+def test_noise_the_model_is_told_of_is_expected_not_surprising():
+    """Sensors 0.3 (three times the fitted noise) noisier: the plain surprise reads about twenty; heard through that
+    noise it is about 1 again, and the reader still equals the series."""
+    model = fitted(linear_world(0, 12000), calibration=linear_world(1))
+    world = noisier(linear_world(2), 0.3, 7)
+    plain = np.nanmean(model.series(world)[0])
+    told = model.heard_through(np.full(len(FELT), 0.3 ** 2))
+    surprise = told.series(world)[0]
+    assert plain > 8.0 and abs(np.nanmean(surprise) - 1.0) < 0.15
+    reader = told.online()
+    np.testing.assert_allclose([reader.step(x)[0] for x in world[:800]], surprise[:800], rtol=1e-9)
+    assert model.heard_through(np.zeros(len(FELT))).noise_floor == 0.0
+
+
+def test_the_noise_terms_match_what_noise_adds_to_the_residuals_and_the_vigour():
+    """Monte Carlo: the extra mean squared residual (in spreads) and the vigour signals' extra mean, from the same
+    motion read with and without 0.2 of white noise, against the model's closed forms."""
+    model = fitted(linear_world(0, 12000))
+    told = model.heard_through(np.full(len(FELT), 0.2 ** 2))
+    clean = linear_world(5, 60000)
+    noisy = noisier(clean, 0.2, 8)
+    extra = np.nanmean((model.residuals(noisy) ** 2).mean(axis=1)) - np.nanmean((model.residuals(clean) ** 2).mean(axis=1))
+    assert abs(extra / told.noise_floor - 1.0) < 0.05
+    added = np.nanmean(vigour_signals(noisy, model.felt, model.command), axis=0) - np.nanmean(
+        vigour_signals(clean, model.felt, model.command), axis=0)
+    np.testing.assert_allclose(added, told.inflation, rtol=0.05, atol=1e-3)
