@@ -61,7 +61,11 @@ class StreamingImaginer:
                              f"({', '.join(f'{c.name}: {w}' for c, w in zip(imaginer.inputs.channels, imaginer.inputs.widths))}), "
                              f"got shape {raw.shape}")
         self.samples += 1
-        normalised = imaginer.normalised(raw)
+        exact = imaginer.inputs.normalise(raw)  # float64: the ridge baseline's window, as a batch replay reads it
+        normalised = exact.astype(np.float32)  # `imaginer.normalised`: what the networks read
+        if imaginer.ridge is not None:
+            self._window[:-1] = self._window[1:]
+            self._window[-1] = exact
         answers = [reader.step(normalised) for reader in self._readers]
         surprise, residual = ((float("nan"), float("nan")) if self._surprise is None
                               else self._surprise.step(normalised.astype(np.float64), self._readers[0].state_vector))
@@ -69,6 +73,8 @@ class StreamingImaginer:
             return None
         target = np.array([self.samples - 1 + imaginer.latent.lead])
         prediction = joined_members([Prediction(target, latent[None], log_error[None]) for latent, log_error in answers])
+        if imaginer.ridge is not None:
+            prediction = prediction.with_ridge_gap(imaginer.ridge_latents(self._window[None]))
         if imaginer.surprise is not None:  # the calibrated confidence reads both, as in a batch replay
             prediction = prediction.with_surprise(np.array([surprise]), np.array([residual]))
         return ImaginedFrame(int(target[0]), self._draw(imaginer.latent_scaler.inverse(prediction.latents)[0]),
@@ -88,4 +94,5 @@ class StreamingImaginer:
         self._readers = [model.online() for model in (imaginer.latent, *imaginer.members)]
         self._surprise = imaginer.surprise.online() if imaginer.surprise is not None else None
         self.samples = 0  # samples seen so far; the latest one is sample samples - 1
+        self._window = np.zeros((imaginer.latent.history, imaginer.inputs.features))  # the last samples, oldest first
 

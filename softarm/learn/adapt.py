@@ -51,8 +51,7 @@ def adapt_models(imaginer: Imaginer, window: Window) -> Imaginer:
     surprise = imaginer.surprise
     if surprise is not None:
         surprise = adapted_surprise(surprise, models[0].states(read), read.astype(np.float64), window.start, SHRINK)
-    return Imaginer(imaginer.autoencoder, models[0], imaginer.latent_scaler, imaginer.inputs, tuple(models[1:]),
-                    surprise, imaginer.trust)
+    return replace(imaginer, latent=models[0], members=tuple(models[1:]), surprise=surprise)
 
 
 def fine_tuned(model: LatentModel, series: torch.Tensor, samples: torch.Tensor, codes: torch.Tensor) -> LatentModel:

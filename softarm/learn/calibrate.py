@@ -18,7 +18,8 @@ MAX_FRAMES = 20_000  # held-out frames the map is fitted on, evenly spread
 
 
 def fit_calibration(state: TrainState) -> dict[str, Any]:
-    """{"weights": [...], "spread": s, "frames": n}: least squares of log(1 - IoU + margin) on the features."""
+    """{"weights": [...], "spread": s, "frames": n, "ridge_gap": true}: least squares of log(1 - IoU + margin)
+    on the features, the gap to the ridge baseline's latent among them (its baselines are fitted first)."""
     imaginer, data = imaginer_of(state), state.data
     parts, where = [], []
     for n, (seq, prediction) in enumerate(zip(data.sequences, imaginer.predict_many([s.inputs for s in data.sequences]))):
@@ -32,6 +33,7 @@ def fit_calibration(state: TrainState) -> dict[str, Any]:
     held_out, where = Prediction.join(parts).take(picked), np.concatenate(where)[picked]
     iou = iou_per_frame(imaginer.decode(held_out.latents), np.stack([data.sequences[n].frames[k] for n, k in where]))
     y = np.log(1.0 - iou + CalibratedTrust.MARGIN)
-    design = np.column_stack([*calibration_features(held_out), np.ones(len(y))])
+    design = np.column_stack([*calibration_features(held_out, True), np.ones(len(y))])
     weights = np.linalg.lstsq(design, y, rcond=None)[0]
-    return {"weights": weights.tolist(), "spread": float(np.std(y - design @ weights)), "frames": int(len(y))}
+    return {"weights": weights.tolist(), "spread": float(np.std(y - design @ weights)), "frames": int(len(y)),
+            "ridge_gap": True}

@@ -39,7 +39,8 @@ def imaginer_of(state: TrainState, latent: Optional[LatentModel] = None) -> Imag
     members = tuple(m.eval() for m in state.member_networks()) if state.phase == "done" else ()
     return Imaginer(state.autoencoder, state.latent, state.latent_scaler, state.inputs, members, state.surprise,
                     trust_class(state.config.train.confidence).build(state.calibration)
-                    or ErrorHeadTrust())  # the calibrated way, before its map is fitted
+                    or ErrorHeadTrust(),  # the calibrated way, before its map is fitted
+                    state.baselines.ridge if state.baselines is not None else None)
 
 
 def segment_prediction(imaginer: Imaginer, data: Dataset, segment: str) -> Prediction:

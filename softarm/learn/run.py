@@ -146,9 +146,9 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
         if not complete:
             return TrainResult(out, None, None, False, time.perf_counter() - start, saved=resume or state.saves > 0)
         state.surprise = fit_surprise_of(state)
+        state.baselines = fit_baselines(state)
         state.calibration = fit_calibration(state)
-        baselines = fit_baselines(state)
-        metrics = evaluate(state, baselines)
-        state.save(out, metrics, baselines)
+        metrics = evaluate(state, state.baselines)
+        state.save(out, metrics, state.baselines)
     metrics_file = write_json(metrics_path_for(out), metrics)
     return TrainResult(out, metrics_file, metrics, True, time.perf_counter() - start)

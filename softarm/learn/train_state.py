@@ -53,6 +53,7 @@ class TrainState:
     member_optimizer: Optional[torch.optim.Optimizer] = None
     surprise: Optional[SurpriseModel] = None
     calibration: Optional[dict[str, Any]] = None   # the calibrated confidence's map (learn/calibrate.py)
+    baselines: Optional[Baselines] = None  # fitted once the model is whole, before the calibration that reads them
     saves: int = 0      # checkpoints this run has written
     _codes: Optional[LatentCodes] = field(default=None, repr=False)
 

@@ -14,6 +14,7 @@ import torch
 
 from softarm.errors import CheckpointError, RecordingError
 from softarm.model.autoencoder import Autoencoder, decode_codes
+from softarm.model.baselines import ridge_predict
 from softarm.model.checkpoint import checkpoint_config, first_line
 from softarm.model.inputs import Inputs
 from softarm.model.latent import LatentModel
@@ -34,6 +35,7 @@ class Imaginer:
     members: tuple[LatentModel, ...] = ()      # an ensemble's other members (train.ensemble), beside `latent`
     surprise: Optional[SurpriseModel] = None   # the forward model of the felt stretch (None: not trained)
     trust: Trust = ErrorHeadTrust()            # how the confidence is measured (train.confidence)
+    ridge: Optional[tuple[np.ndarray, np.ndarray]] = None  # the ridge baseline (its gap is a confidence feature)
 
     @classmethod
     def from_checkpoint(cls, state: dict[str, Any]) -> "Imaginer":
@@ -60,7 +62,7 @@ class Imaginer:
         trust = trust_class(t.confidence).build(state.get("calibration"))
         if trust is None:
             raise CheckpointError(f"the checkpoint's confidence ({t.confidence}) was not fitted: finish it with --resume")
-        return cls(autoencoder, latent, latent_scaler, inputs, members, surprise, trust)
+        return cls(autoencoder, latent, latent_scaler, inputs, members, surprise, trust, ridge_of(state))
 
     def normalised(self, raw: np.ndarray) -> np.ndarray:
         """Raw inputs (..., F) as the latent model reads them: normalised, float32."""
@@ -84,6 +86,8 @@ class Imaginer:
         normalised = [self.normalised(raw) for raw in series]
         answers = [model.answer(normalised) for model in (self.latent, *self.members)]
         predictions = [joined_members(parts) for parts in zip(*answers)]
+        if self.ridge is not None:
+            predictions = [p.with_ridge_gap(self.ridge_answer(raw, p.targets)) for p, raw in zip(predictions, series)]
         if self.surprise is None:
             return predictions
         return [p.with_surprise(*(a[p.targets - self.latent.lead]
@@ -106,6 +110,17 @@ class Imaginer:
     def predict_segments(self, series: Sequence[np.ndarray], bounds: Sequence[tuple[int, int]]) -> Prediction:
         """The answers for one segment [start, end) of each series (targets: (series, frame) pairs)."""
         return self.latent.answer_segments([self.normalised(raw) for raw in series], bounds)
+
+    def ridge_answer(self, raw: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """(M, K) the ridge baseline's normalised latent for frames `targets` of a raw input series (T, F)."""
+        windows, first = self.windows(raw)
+        if len(targets) and (targets[0] < first[0] or targets[-1] > first[-1]):
+            raise ValueError(f"frames {targets[0]}..{targets[-1]} have no full input window ({first[0]}..{first[-1]})")
+        return self.ridge_latents(windows[targets - first[0]])
+
+    def ridge_latents(self, windows: np.ndarray) -> np.ndarray:
+        """(M, K) the ridge baseline's normalised latents for normalised float64 input windows (M, history, F)."""
+        return ridge_predict(self.ridge, windows)
 
     def decode(self, normalised: np.ndarray) -> np.ndarray:
         """Pixel probabilities (M, H, W) of normalised kept latents (M, K)."""
@@ -138,6 +153,14 @@ def surprise_of(state: dict[str, Any], features: int, hidden: int) -> Optional[S
                                        or memory.scale.shape != surprise.scale.shape)):
         raise CheckpointError("the checkpoint's surprise model does not fit its inputs: train it again")
     return surprise
+
+
+def ridge_of(state: dict[str, Any]) -> Optional[tuple[np.ndarray, np.ndarray]]:
+    """The checkpoint's ridge baseline (weights, bias) as float64, None where it holds no baselines."""
+    baselines = state.get("baselines")
+    if not isinstance(baselines, dict) or "ridge_weights" not in baselines:
+        return None
+    return tuple(np.asarray(baselines[key].numpy(), np.float64) for key in ("ridge_weights", "ridge_bias"))
 
 
 def loaded(make: Callable[[], torch.nn.Module], weights: dict[str, torch.Tensor]) -> torch.nn.Module:

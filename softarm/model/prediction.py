@@ -16,6 +16,7 @@ class Prediction:
     spread: Optional[np.ndarray] = None    # (M, K) an ensemble's variance across its members; None for one model
     surprise: Optional[np.ndarray] = None  # (M,) the surprise of the sample each frame is imagined from
     residual: Optional[np.ndarray] = None  # (M,) its felt residual before the vigour divides it (`model.surprise`)
+    ridge_gap: Optional[np.ndarray] = None  # (M,) mean squared gap to the ridge baseline's latent from the same window
 
     @property
     def confidence(self) -> np.ndarray:
@@ -32,6 +33,10 @@ class Prediction:
 
     def with_surprise(self, surprise: np.ndarray, residual: np.ndarray) -> "Prediction":
         return replace(self, surprise=surprise, residual=residual)
+
+    def with_ridge_gap(self, ridge: np.ndarray) -> "Prediction":
+        """With the gap between each latent and the ridge baseline's answer `ridge` (M, K) for the same frames."""
+        return replace(self, ridge_gap=((self.latents - ridge) ** 2).mean(axis=1))
 
     @staticmethod
     def join(parts: Sequence["Prediction"]) -> "Prediction":

@@ -74,27 +74,33 @@ class EnsembleTrust(Trust):
 
 class CalibratedTrust(Trust):
     """The frame's IoU predicted from what the model knows without a camera: the error head's predicted error,
-    the surprise and the felt residual, and the members' disagreement where there is an ensemble; a linear map of their logarithms
-    to log(1 - IoU + MARGIN), fitted on held-out frames when the checkpoint was trained (`calibration`)."""
+    the surprise and the felt residual, how far the latent strays from the ridge baseline's answer to the same
+    window (where the calibration was fitted with it), and the members' disagreement where there is an ensemble;
+    a linear map of their logarithms to log(1 - IoU + MARGIN), fitted on held-out frames when the checkpoint was
+    trained (`calibration`)."""
     name = "calibrated"
     MARGIN = 0.01
 
-    def __init__(self, weights: np.ndarray, spread: float):
+    def __init__(self, weights: np.ndarray, spread: float, ridge_gap: bool = False):
         self.weights = weights  # (features + 1,): the map, constant last
         self.spread = spread    # the residual's standard deviation on the frames it was fitted on
+        self.ridge_gap = ridge_gap  # whether the ridge gap is a feature (checkpoints before it: not)
 
     @classmethod
     def build(cls, calibration: Optional[dict[str, Any]]) -> Optional["Trust"]:
         if not calibration:
             return None
-        return cls(np.asarray(calibration["weights"], np.float64), float(calibration["spread"]))
+        return cls(np.asarray(calibration["weights"], np.float64), float(calibration["spread"]),
+                   bool(calibration.get("ridge_gap", False)))
 
     def available(self, prediction: Prediction) -> bool:
-        return len(self.weights) == len(calibration_features(prediction)) + 1
+        return ((prediction.ridge_gap is not None or not self.ridge_gap)
+                and len(self.weights) == len(calibration_features(prediction, self.ridge_gap)) + 1)
 
     def predicted(self, prediction: Prediction) -> np.ndarray:
         """(M,) the predicted log(1 - IoU + MARGIN)."""
-        return np.column_stack([*calibration_features(prediction), np.ones(len(prediction.latents))]) @ self.weights
+        features = calibration_features(prediction, self.ridge_gap)
+        return np.column_stack([*features, np.ones(len(prediction.latents))]) @ self.weights
 
     def confidence(self, prediction: Prediction) -> np.ndarray:
         return as_iou(self.predicted(prediction))
@@ -106,18 +112,26 @@ class CalibratedTrust(Trust):
             len(prediction.latents))), 0.0, 1.0)
 
 
+RIDGE_FLOOR = 1e-3  # added to the ridge gap (normalised latent units squared) before its logarithm
+
+
 def as_iou(predicted: np.ndarray) -> np.ndarray:
     """A predicted log(1 - IoU + MARGIN) as a confidence in (0, 1]."""
     return np.clip(1.0 + CalibratedTrust.MARGIN - np.exp(predicted), 1e-3, 1.0)
 
 
-def calibration_features(prediction: Prediction) -> list[np.ndarray]:
+def calibration_features(prediction: Prediction, ridge_gap: bool) -> list[np.ndarray]:
     """log of the error head's mean predicted squared error, of the surprise and of the felt residual (each +0.1;
-    1 where unknown) and of the members' mean variance where there are members."""
+    1 where unknown), with `ridge_gap` of the gap to the ridge's latent (+1e-3), and of the members' mean variance
+    where there are members."""
     features = [np.log(np.exp(prediction.log_error).mean(axis=1))]
     for felt in (prediction.surprise, prediction.residual):
         felt = felt if felt is not None else np.ones(len(prediction.latents))
         features.append(np.log(np.nan_to_num(felt, nan=1.0) + 0.1))
+    if ridge_gap:
+        if prediction.ridge_gap is None:
+            raise ValueError("this calibration reads the ridge baseline's gap: imagine with the checkpoint's ridge")
+        features.append(np.log(prediction.ridge_gap + RIDGE_FLOOR))
     if prediction.spread is not None:
         features.append(np.log(prediction.spread.mean(axis=1) + 1e-12))
     return features

@@ -5,6 +5,7 @@ replay of the training recording."""
 import numpy as np
 
 from softarm.imagine.replay import compute_replay
+from softarm.model.baselines import ridge_predict
 from softarm.model.trained import TrainedModel
 from softarm.model.trust import CalibratedTrust
 
@@ -23,3 +24,20 @@ def test_the_calibrated_map_is_fitted_on_the_held_out_frames(recordings, tiny_ch
     assert np.isclose(np.std(truth - predicted), calibration["spread"], rtol=1e-3)
     confidence = trust.confidence(prediction)
     assert ((confidence > 0) & (confidence <= 1)).all()
+
+
+def test_the_ridge_gap_is_the_distance_to_the_ridge_baseline_and_older_maps_still_read(recordings, tiny_checkpoint):
+    """The gap is the one the suite's ridge baseline scores (the checkpoint's ridge on the same windows); a map
+    fitted before the gap existed (three features and a constant) still gives a confidence."""
+    model = TrainedModel(tiny_checkpoint.checkpoint)
+    inputs = model.read(recordings / "s0.mcap").inputs
+    prediction = model.imaginer.predict(inputs)
+    windows, targets = model.imaginer.windows(inputs)
+    ridge = ridge_predict(model.baselines.ridge, windows)[np.searchsorted(targets, prediction.targets)]
+    np.testing.assert_allclose(prediction.ridge_gap, ((prediction.latents - ridge) ** 2).mean(axis=1), rtol=1e-9)
+    assert model.state["calibration"]["ridge_gap"] and len(model.state["calibration"]["weights"]) == 5
+    older = CalibratedTrust.build({"weights": [0.5, 0.1, 0.2, -2.0], "spread": 0.4})
+    assert older.available(prediction)
+    expected = 0.5 * np.log(np.exp(prediction.log_error).mean(axis=1)) - 2.0 + sum(
+        w * np.log(np.nan_to_num(x, nan=1.0) + 0.1) for w, x in ((0.1, prediction.surprise), (0.2, prediction.residual)))
+    np.testing.assert_allclose(older.predicted(prediction), expected)
