@@ -50,14 +50,14 @@ def test_a_streamer_told_its_sensors_noise_equals_a_replay_told_the_same(recordi
     noise = {"noise": 5e-5}
     replayed = compute_replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", nodes=False, sensor_noise=noise)
     stream = StreamingImaginer.from_checkpoint(tiny_checkpoint.checkpoint, sensor_noise=noise)
-    untold = StreamingImaginer.from_checkpoint(tiny_checkpoint.checkpoint)
-    told, plain = {}, {}
-    for sample in replayed.inputs:
-        for streamer, out in ((stream, told), (untold, plain)):
-            frame = streamer.step(sample)
-            if frame is not None:
-                out[frame.frame] = frame
-    frames = np.flatnonzero(np.isfinite(replayed.surprise))
+    told = {}
+    for sample in replayed.inputs[:300]:  # three seconds: the surprise is defined from sample LAGS on
+        frame = stream.step(sample)
+        if frame is not None:
+            told[frame.frame] = frame
+    frames = [k for k in told if np.isfinite(replayed.surprise[k])]
+    assert len(frames) > 250
     np.testing.assert_allclose([told[k].surprise for k in frames], replayed.surprise[frames], rtol=1e-4, atol=1e-6)
     assert [told[k].alarm for k in frames] == list(replayed.alarm[frames])
-    assert np.median([plain[k].surprise for k in frames]) > 5 * np.median(replayed.surprise[frames])
+    untold = TrainedModel(tiny_checkpoint.checkpoint).imaginer.predict(replayed.inputs)
+    assert np.nanmedian(untold.surprise) > 5 * np.nanmedian(replayed.surprise)
