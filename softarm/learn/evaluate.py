@@ -70,9 +70,9 @@ def fit_baselines(state: TrainState) -> Baselines:
     return Baselines(mean_frame=data.frames("train").mean(axis=0), ridge=ridge, nodes=nodes)
 
 
-def evaluate(state: TrainState, baselines: Baselines) -> dict[str, Any]:
-    """The metrics document written beside the checkpoint (README: Results)."""
-    t, data = state.config.train, state.data
+def evaluate(state: TrainState) -> dict[str, Any]:
+    """The metrics document written beside the checkpoint (README: Results), once its baselines are fitted."""
+    t, data, baselines = state.config.train, state.data, state.baselines
     imaginer = imaginer_of(state)
     test_frames = data.frames("test")
     test_frames = test_frames[evenly(len(test_frames), MAX_SCORED)]

@@ -114,8 +114,7 @@ class TrainState:
         return [TrainingSeries(self.inputs.normalise(seq.inputs).astype(np.float32), target, seq.segment("train")[1],
                                seq.seen) for seq, target in zip(data.sequences, targets)]
 
-    def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None,
-                      baselines: Optional[Baselines] = None) -> dict[str, Any]:
+    def to_checkpoint(self, metrics: Optional[dict[str, Any]] = None) -> dict[str, Any]:
         """Plain tensors, numbers and strings: the file loads with torch.load(weights_only=True)."""
         state: dict[str, Any] = {
             "softarm_version": __version__, "config": self.config.to_dict(), "image_shape": list(self.data.image_shape),
@@ -138,12 +137,12 @@ class TrainState:
             state["inputs"] = self.inputs.to_state()
         if metrics is not None:
             state["metrics"] = metrics
-        if baselines is not None:
-            state["baselines"] = baselines.to_state()
+        if self.baselines is not None:
+            state["baselines"] = self.baselines.to_state()
         return state
 
-    def save(self, path: Path, metrics: Optional[dict[str, Any]] = None, baselines: Optional[Baselines] = None) -> None:
-        save_checkpoint(path, self.to_checkpoint(metrics, baselines))
+    def save(self, path: Path, metrics: Optional[dict[str, Any]] = None) -> None:
+        save_checkpoint(path, self.to_checkpoint(metrics))
         self.saves += 1
 
     def restore(self, saved: dict[str, Any], path: Path) -> None:
