@@ -83,11 +83,12 @@ class Imaginer:
         for raw in series:
             if len(raw) <= self.latent.first_frame:
                 raise RecordingError(f"{len(raw)} input samples are too few for a history of {self.latent.history}")
-        normalised = [self.normalised(raw) for raw in series]
+        exact = [self.inputs.normalise(raw) for raw in series]  # float64, as the ridge baseline reads them
+        normalised = [e.astype(np.float32) for e in exact]  # `normalised`: what the networks read
         answers = [model.answer(normalised) for model in (self.latent, *self.members)]
         predictions = [joined_members(parts) for parts in zip(*answers)]
         if self.ridge is not None:
-            predictions = [p.with_ridge_gap(self.ridge_answer(raw, p.targets)) for p, raw in zip(predictions, series)]
+            predictions = [p.with_ridge_gap(self.ridge_answer(e, p.targets)) for p, e in zip(predictions, exact)]
         if self.surprise is None:
             return predictions
         return [p.with_surprise(*(a[p.targets - self.latent.lead]
@@ -111,9 +112,9 @@ class Imaginer:
         """The answers for one segment [start, end) of each series (targets: (series, frame) pairs)."""
         return self.latent.answer_segments([self.normalised(raw) for raw in series], bounds)
 
-    def ridge_answer(self, raw: np.ndarray, targets: np.ndarray) -> np.ndarray:
-        """(M, K) the ridge baseline's normalised latent for frames `targets` of a raw input series (T, F)."""
-        windows, first = self.windows(raw)
+    def ridge_answer(self, normalised: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """(M, K) the ridge baseline's normalised latent for frames `targets` of a normalised float64 series (T, F)."""
+        windows, first = input_windows(normalised, self.latent.history, self.latent.lead)
         if len(targets) and (targets[0] < first[0] or targets[-1] > first[-1]):
             raise ValueError(f"frames {targets[0]}..{targets[-1]} have no full input window ({first[0]}..{first[-1]})")
         return self.ridge_latents(windows[targets - first[0]])
