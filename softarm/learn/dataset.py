@@ -19,6 +19,7 @@ from softarm.corpus.manifest import MIN_CORPUS
 from softarm.errors import RecordingError
 from softarm.files import fingerprint
 from softarm.interrupt import Stopped
+from softarm.learn.packed_frames import PackedFrames
 from softarm.model.fits import check_fits, recording_shape
 from softarm.model.inputs import InputChannel, read_channels
 from softarm.model.windows import input_windows, window_count
@@ -30,7 +31,7 @@ class RunData:
     """One recording's learning arrays."""
     name: str
     fingerprint: str            # sha256 of the file, first 16 hex digits
-    frames: np.ndarray          # (T, H, W) uint8 0/1
+    frames: PackedFrames        # (T, H, W) 0/1, eight pixels to a byte
     inputs: np.ndarray          # (T, F) float32, every input channel side by side, raw (SI units)
     times: np.ndarray           # (T,) s
     bounds: tuple[int, int]     # train = [0, b0), test = [b0, b1), imagine = [b1, T)
@@ -49,25 +50,21 @@ class Dataset:
     sequences: list[RunData]
     channels: tuple[InputChannel, ...]
     widths: list[int]              # features of each channel
-    cache: Optional[Path] = None   # where frames live on disk (memory-mapped), if anywhere
     pixels_per_metre: float = float("nan")  # the cameras' scale for tip errors in mm (NaN: not known for all)
-    _segments: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
+    _segments: dict[str, PackedFrames] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def image_shape(self) -> tuple[int, int]:
         return self.sequences[0].frames.shape[1:]
 
-    def frames(self, segment: str) -> np.ndarray:
-        """(M, H, W) uint8 frames of a segment, all recordings in order: a view for one recording, else one
-        array made once (on disk, memory-mapped, when the dataset has a cache)."""
-        parts = [s.frames[slice(*s.segment(segment))] for s in self.sequences]
-        if any(s.seen is not None for s in self.sequences):  # a camera's gaps are no training or test frames
-            parts = [p if s.seen is None else p[s.seen[slice(*s.segment(segment))]] for p, s in zip(parts, self.sequences)]
-        if len(parts) == 1:
-            return parts[0]
+    def frames(self, segment: str) -> PackedFrames:
+        """(M, H, W) frames of a segment, all recordings in order, packed: joined once."""
         if segment not in self._segments:
-            self._segments[segment] = (np.concatenate(parts) if self.cache is None
-                                       else on_disk(self.cache / f"{segment}.u8", parts))
+            parts = [s.frames.select(slice(*s.segment(segment))) for s in self.sequences]
+            if any(s.seen is not None for s in self.sequences):  # a camera's gaps are no training or test frames
+                parts = [p if s.seen is None else p.select(s.seen[slice(*s.segment(segment))])
+                         for p, s in zip(parts, self.sequences)]
+            self._segments[segment] = PackedFrames.join(parts)
         return self._segments[segment]
 
     def windows(self, segment: str, history: int, lead: int) -> tuple[np.ndarray, np.ndarray]:
@@ -120,10 +117,10 @@ def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
 
 
 def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Sequence[InputChannel],
-                 cache: Optional[Path] = None, stop: Callable[[], bool] = lambda: False) -> Dataset:
+                 stop: Callable[[], bool] = lambda: False) -> Dataset:
     """Read recordings (all of one image shape and channel widths), each channel as `config` reads it, and
-    split each by time. With a `cache` folder the frames go to disk and are memory-mapped, so the memory a
-    corpus needs does not grow with its size. `stop()` is asked before each recording: True raises Stopped."""
+    split each by time; the frames are kept packed. `stop()` is asked before each recording: True raises
+    Stopped."""
     if not paths:
         raise RecordingError("give at least one recording")
     train, channels = config.train, tuple(channels)
@@ -136,10 +133,9 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
         if int(rec.model.get("seed", 0)) >= HELD_OUT_SEED_BASE:
             raise RecordingError(f"{path.name} was made from seed {rec.model['seed']}, one of the held-out suite's "
                                  f"(>= {HELD_OUT_SEED_BASE}): train on seeds below it")
-        frames = rec.frames if cache is None else on_disk(cache / f"{len(sequences)}.u8", [rec.frames])
         bounds = split_bounds(len(rec.times), train)
         validation = len(sequences) in held_out
-        seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=frames,
+        seq = RunData(name=path.name, fingerprint=fingerprint(path), frames=PackedFrames.pack(rec.frames),
                       inputs=read_channels(channels, rec, config).astype(np.float32), times=rec.times,
                       bounds=(0, bounds[1]) if validation else bounds, held_out=validation,
                       positions=None if rec.positions is None else rec.positions.astype(np.float32),
@@ -152,7 +148,7 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
         check_segments(seq, train)
         sequences.append(seq)
         imported |= rec.imported
-    return Dataset(sequences, channels, list(first[1][1]), cache,
+    return Dataset(sequences, channels, list(first[1][1]),
                    float("nan") if imported else config.camera.pixels_per_metre)
 
 
@@ -163,19 +159,6 @@ def validation_indices(count: int, share: float) -> set[int]:
         return set()
     kept = max(1, round(count * share))
     return {int((i + 0.5) * count / kept) for i in range(kept)}
-
-
-def on_disk(path: Path, parts: Sequence[np.ndarray]) -> np.ndarray:
-    """The parts one after another in a file, memory-mapped copy-on-write (writable views, a read-only file)."""
-    shape = (sum(len(p) for p in parts), *parts[0].shape[1:])
-    array = np.lib.format.open_memmap(path, mode="w+", dtype=parts[0].dtype, shape=shape)
-    offset = 0
-    for part in parts:
-        array[offset:offset + len(part)] = part
-        offset += len(part)
-    array.flush()
-    del array
-    return np.load(path, mmap_mode="c")
 
 
 def check_segments(seq: RunData, train: TrainConfig) -> None:

@@ -67,7 +67,7 @@ def fit_baselines(state: TrainState) -> Baselines:
     ridge = ridge_fit(state.inputs.normalise(windows), state.latent_scaler.forward(state.codes().of(targets)))
     nodes = node_ridge.fit([(state.inputs.normalise(s.inputs), s.positions, s.segment("train")[1])
                             for s in data.sequences if s.positions is not None], t.lead)
-    return Baselines(mean_frame=data.frames("train").mean(axis=0), ridge=ridge, nodes=nodes)
+    return Baselines(mean_frame=data.frames("train").mean(), ridge=ridge, nodes=nodes)
 
 
 def evaluate(state: TrainState) -> dict[str, Any]:

@@ -3,8 +3,7 @@ and its metrics.
 
 Light to import: torch loads when `train()` first runs. A stop request (Ctrl-C, SIGTERM, SIGHUP) is honoured
 from the first moment: while the recordings are read it ends the run with nothing written, later it keeps the
-last finished epoch; the frame cache is removed either way, and a later run sweeps the caches of runs that were
-killed outright.
+last finished epoch.
 """
 
 import math
@@ -19,7 +18,6 @@ from softarm.corpus.manifest import folder_recordings
 from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingError
 from softarm.files import check_outputs, claimed, made_folders, write_json
 from softarm.interrupt import Stopped, stop_on_signal
-from softarm.learn.cache import frame_cache
 from softarm.learn.observer import Progress, open_observer
 from softarm.model.registry import check_inputs, check_latent_model
 
@@ -128,27 +126,26 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
 
     if not resume:
         metrics_path_for(out).unlink(missing_ok=True)  # it described the checkpoint this run replaces
-    with frame_cache(out, len(recordings) > 1) as cache:
-        state = start_state(recordings, config, out, resume, cache, stop)
-        if state.config.train.precision == "auto":  # chosen once, by measuring; the checkpoint keeps the choice
-            from softarm.learn.step_times import fastest_precision
+    state = start_state(recordings, config, out, resume, stop)
+    if state.config.train.precision == "auto":  # chosen once, by measuring; the checkpoint keeps the choice
+        from softarm.learn.step_times import fastest_precision
 
-            state.config = override(state.config, {"train.precision": fastest_precision(state)})
-        if minutes is not None and resume:
-            warnings.warn(f"--minutes {minutes:g} is ignored with --resume: the saved run keeps its own schedule",
-                          stacklevel=3)
-        elif minutes is not None:
-            from softarm.learn.budget import fit_to_minutes
+        state.config = override(state.config, {"train.precision": fastest_precision(state)})
+    if minutes is not None and resume:
+        warnings.warn(f"--minutes {minutes:g} is ignored with --resume: the saved run keeps its own schedule",
+                      stacklevel=3)
+    elif minutes is not None:
+        from softarm.learn.budget import fit_to_minutes
 
-            fit_to_minutes(state, minutes, time.perf_counter() - start)
-        with open_observer(rrd, spawn) as observer:
-            complete = fit(state, out, observer, progress or (lambda *_: None), stop)
-        if not complete:
-            return TrainResult(out, None, None, False, time.perf_counter() - start, saved=resume or state.saves > 0)
-        state.surprise = fit_surprise_of(state)
-        state.baselines = fit_baselines(state)
-        state.calibration = fit_calibration(state)
-        metrics = evaluate(state)
-        state.save(out, metrics)
+        fit_to_minutes(state, minutes, time.perf_counter() - start)
+    with open_observer(rrd, spawn) as observer:
+        complete = fit(state, out, observer, progress or (lambda *_: None), stop)
+    if not complete:
+        return TrainResult(out, None, None, False, time.perf_counter() - start, saved=resume or state.saves > 0)
+    state.surprise = fit_surprise_of(state)
+    state.baselines = fit_baselines(state)
+    state.calibration = fit_calibration(state)
+    metrics = evaluate(state)
+    state.save(out, metrics)
     metrics_file = write_json(metrics_path_for(out), metrics)
     return TrainResult(out, metrics_file, metrics, True, time.perf_counter() - start)

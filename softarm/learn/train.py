@@ -90,12 +90,12 @@ def fit_autoencoder(state: TrainState, schedule: "Schedule", out: Path, observer
                     stop: Callable[[], bool]) -> bool:
     """The autoencoder's epochs, binary cross-entropy on the frames of the training segments."""
     t = state.config.train
-    frames = torch.from_numpy(state.data.frames("train"))  # uint8: a batch becomes float only when used
+    frames = state.data.frames("train")  # packed: a batch is unpacked, and becomes float, only when used
     test = state.data.frames("test")
     test = test[evenly(len(test), MAX_SCORED)]  # a corpus's held-out loss costs what one recording's does
 
     def ae_step(index: torch.Tensor) -> StepLoss:
-        x = frames[index].float()
+        x = torch.from_numpy(frames[index.numpy()]).float()
         loss = F.binary_cross_entropy_with_logits(state.autoencoder(x), x)
         return loss, loss.item(), len(index)
 

@@ -11,7 +11,7 @@ purpose: the whole training must fit minutes on 2 CPU cores, and replay must dec
 quickly (README has the timings).
 """
 
-from typing import Any, Callable
+from typing import Any, Callable, Protocol
 
 import numpy as np
 import torch
@@ -65,10 +65,17 @@ def in_batches(function: Callable[[torch.Tensor], Any], items: torch.Tensor) -> 
     return torch.cat(answers)
 
 
+class Frames(Protocol):
+    """Frames (M, H, W) an array gives, or anything that slices into such arrays (a training's packed frames)."""
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: slice) -> np.ndarray: ...
+
+
 @torch.inference_mode()
-def encode_frames(autoencoder: Autoencoder, frames: np.ndarray) -> np.ndarray:
-    """Raw latent codes (M, F) of frames (M, H, W)."""
-    return in_batches(autoencoder.encode, torch.from_numpy(frames)).numpy()
+def encode_frames(autoencoder: Autoencoder, frames: Frames) -> np.ndarray:
+    """Raw latent codes (M, F) of frames (M, H, W), BATCH at a time."""
+    return torch.cat([autoencoder.encode(torch.from_numpy(np.ascontiguousarray(frames[i:i + BATCH])))
+                      for i in range(0, len(frames), BATCH)]).numpy()
 
 
 @torch.inference_mode()
