@@ -8,7 +8,7 @@ shows life.
 
 import threading
 import time
-from typing import Callable, Optional
+from typing import Optional
 
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
@@ -123,11 +123,6 @@ class StagedProgress:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def training_progress(bar: LazyProgress) -> Callable[[int, int, dict[str, float]], None]:
-    """softarm.train's progress (steps done, steps in all, latest losses) as updates of a bar."""
-    return lambda done, total, losses: bar.update(done, total=total, **shown(losses))
 
 
 def shown(numbers: dict[str, float]) -> dict[str, str]:

@@ -6,11 +6,14 @@ from typing import Annotated, Optional
 import typer
 from softarm_cli.console import complain, err, out, run_or_exit, say
 from softarm_cli.options import Checkpoint, ConfigFile, D, Force, Quiet
-from softarm_cli.progress import LazyProgress, training_progress
+from softarm_cli.progress import StagedProgress
 from softarm_cli.tables import metrics_table
 
 from softarm.config import load_config
 from softarm.model.registry import INPUT_CHANNELS, LATENT_MODELS
+
+TRAINING_STAGES = {"reading": ("reading", "recordings"), "training": ("training", "steps"),
+                   "fitting": ("fitting", "fits")}  # the surprise, the baselines, the confidence, the metrics
 
 
 def train(
@@ -43,10 +46,12 @@ def train(
                  "train.inputs": [name.strip() for name in inputs.split(",")] if inputs else None,
                  "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
     cfg = run_or_exit(lambda: load_config(config, overrides))
-    with LazyProgress(err, "training", 1, "steps", quiet=quiet, log=out) as bar:
+    with StagedProgress(err, TRAINING_STAGES, quiet=quiet, log=out) as staged:
         result = run_or_exit(lambda: run_training(recordings, cfg, out_path, resume=resume, force=force, spawn=spawn,
-                                                  rrd=rrd, minutes=minutes, progress=training_progress(bar),
-                                                  inputs=[config] if config else []))
+                                                  rrd=rrd, minutes=minutes, inputs=[config] if config else [],
+                                                  progress=lambda done, total, losses: staged("training", done, total,
+                                                                                              losses),
+                                                  stages=lambda stage, done, total: staged(stage, done, total)))
     if not result.complete:
         if result.saved:
             complain(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "

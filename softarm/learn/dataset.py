@@ -117,15 +117,17 @@ def split_bounds(n_frames: int, train: TrainConfig) -> tuple[int, int]:
 
 
 def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Sequence[InputChannel],
-                 stop: Callable[[], bool] = lambda: False) -> Dataset:
+                 stop: Callable[[], bool] = lambda: False,
+                 progress: Callable[[int, int], None] = lambda done, total: None) -> Dataset:
     """Read recordings (all of one image shape and channel widths), each channel as `config` reads it, and
     split each by time; the frames are kept packed. `stop()` is asked before each recording: True raises
-    Stopped."""
+    Stopped; `progress(done, total)` hears of each one read."""
     if not paths:
         raise RecordingError("give at least one recording")
     train, channels = config.train, tuple(channels)
     sequences, first, imported = [], None, False
     held_out = validation_indices(len(paths), train.validation_recordings)
+    progress(0, len(paths))
     for path in map(Path, paths):
         if stop():
             raise Stopped()
@@ -148,6 +150,7 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
         check_segments(seq, train)
         sequences.append(seq)
         imported |= rec.imported
+        progress(len(sequences), len(paths))
     return Dataset(sequences, channels, list(first[1][1]),
                    float("nan") if imported else config.camera.pixels_per_metre)
 

@@ -18,7 +18,7 @@ from softarm.corpus.manifest import folder_recordings
 from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingError
 from softarm.files import check_outputs, claimed, made_folders, write_json
 from softarm.interrupt import Stopped, stop_on_signal
-from softarm.learn.observer import Progress, open_observer
+from softarm.learn.observer import Progress, StageProgress, open_observer
 from softarm.model.registry import check_inputs, check_latent_model
 
 DEFAULT_FOLDER = Path("recordings")
@@ -86,13 +86,16 @@ def check_minutes(minutes: Optional[float]) -> None:
 def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: Optional[PathLike] = None,
           resume: bool = False, force: bool = False, rrd: Optional[PathLike] = None, spawn: bool = False,
           progress: Optional[Progress] = None, stop: Callable[[], bool] = lambda: False,
-          minutes: Optional[float] = None, inputs: Sequence[PathLike] = ()) -> TrainResult:
+          minutes: Optional[float] = None, inputs: Sequence[PathLike] = (),
+          stages: Optional[StageProgress] = None) -> TrainResult:
     """Train (or with resume, continue) on recordings; write the checkpoint and, at the end, its metrics JSON.
 
     `minutes` fits a new run's schedules into that wall-clock budget (softarm.learn.budget). `rrd` saves and
     `spawn` shows a live Rerun view. Ctrl-C (or SIGTERM, SIGHUP, or `stop()` returning True) ends training
     within a batch; the checkpoint of the last finished epoch stays (`complete` False). `inputs` (a config
-    file, say) are files besides the recordings that no output may replace.
+    file, say) are files besides the recordings that no output may replace. `progress` hears of the
+    optimisation steps, `stages` of the work before and after them: the recordings read ("reading") and the
+    fits and scores after training ("fitting": the surprise, the baselines, the confidence, the metrics).
     """
     from softarm.record.reader import read_model
 
@@ -109,14 +112,15 @@ def train(recordings: Sequence[PathLike], config: Optional[Config] = None, out: 
     outputs = train_outputs(out, rrd)
     try:
         with stop_on_signal() as caught, made_folders(outputs), claimed(outputs):
-            return _train(recordings, config, out, resume, rrd, spawn, progress, lambda: bool(caught) or stop(),
-                          minutes, start)
+            return _train(recordings, config, out, resume, rrd, spawn, progress, stages or (lambda *_: None),
+                          lambda: bool(caught) or stop(), minutes, start)
     except Stopped:  # while the recordings were read: nothing was written, and no folder made for it is left
         return TrainResult(out, None, None, False, time.perf_counter() - start, saved=False)
 
 
 def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd: Optional[PathLike], spawn: bool,
-           progress: Optional[Progress], stop: Callable[[], bool], minutes: Optional[float], start: float) -> TrainResult:
+           progress: Optional[Progress], stages: StageProgress, stop: Callable[[], bool], minutes: Optional[float],
+           start: float) -> TrainResult:
     """Read, fit, evaluate and save, once every input and output is checked and held."""
     from softarm.learn.calibrate import fit_calibration
     from softarm.learn.evaluate import evaluate, fit_baselines  # torch loads here, not when softarm is imported
@@ -126,7 +130,7 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
 
     if not resume:
         metrics_path_for(out).unlink(missing_ok=True)  # it described the checkpoint this run replaces
-    state = start_state(recordings, config, out, resume, stop)
+    state = start_state(recordings, config, out, resume, stop, lambda done, total: stages("reading", done, total))
     if state.config.train.precision == "auto":  # chosen once, by measuring; the checkpoint keeps the choice
         from softarm.learn.step_times import fastest_precision
 
@@ -142,10 +146,15 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
         complete = fit(state, out, observer, progress or (lambda *_: None), stop)
     if not complete:
         return TrainResult(out, None, None, False, time.perf_counter() - start, saved=resume or state.saves > 0)
+    stages("fitting", 0, 4)
     state.surprise = fit_surprise_of(state)
+    stages("fitting", 1, 4)
     state.baselines = fit_baselines(state)
+    stages("fitting", 2, 4)
     state.calibration = fit_calibration(state)
+    stages("fitting", 3, 4)
     metrics = evaluate(state)
+    stages("fitting", 4, 4)
     state.save(out, metrics)
     metrics_file = write_json(metrics_path_for(out), metrics)
     return TrainResult(out, metrics_file, metrics, True, time.perf_counter() - start)

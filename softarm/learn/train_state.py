@@ -180,15 +180,16 @@ def adam(parameters: Iterable[torch.nn.Parameter], lr: float) -> torch.optim.Ada
 
 
 def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, resume: bool,
-                stop: Callable[[], bool] = lambda: False) -> TrainState:
+                stop: Callable[[], bool] = lambda: False,
+                read: Callable[[int, int], None] = lambda done, total: None) -> TrainState:
     """A fresh run on `paths`, or with resume the run saved in `out` (whose settings win, with a warning);
-    `stop()` is asked between recordings."""
+    `stop()` is asked between recordings, `read(done, total)` hears of each one read."""
     saved = load_checkpoint(out) if resume else None
     if saved is not None:
         config = _saved_config(saved, config)
     config = override(config, {"train.inputs": list(chosen_inputs(config.train.inputs, len(paths), MIN_CORPUS))})
     t = config.train
-    data = load_dataset(paths, config, channels(config.train.inputs), stop)
+    data = load_dataset(paths, config, channels(config.train.inputs), stop, read)
     torch.manual_seed(t.seed)
     autoencoder = Autoencoder(*data.image_shape, t.latent)
     state = TrainState(config, data, autoencoder, adam(autoencoder.parameters(), t.lr_ae))

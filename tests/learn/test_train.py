@@ -121,3 +121,17 @@ def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_th
     trained = train([recordings / "s0.mcap"], config, tmp_path / "budget.pt", minutes=0.1)
     saved = load_checkpoint(trained.checkpoint)["config"]["train"]
     assert trained.complete and 0 < saved["max_steps_ae"] < ae.total and 0 < saved["max_steps_lstm"] < lstm.total
+
+
+def test_the_work_before_and_after_the_steps_reports_its_progress(recordings, tiny_checkpoint, tmp_path):
+    import shutil
+
+    shutil.copy(tiny_checkpoint.checkpoint, tmp_path / "done.pt")  # finished: a resume reads and fits again
+    heard = []
+    train([recordings / "s0.mcap"], load_config(overrides=TINY), tmp_path / "done.pt", resume=True,
+          stages=lambda stage, done, total: heard.append((stage, done, total)))
+    assert heard == [("reading", 0, 1), ("reading", 1, 1), *(("fitting", k, 4) for k in range(5))]
+    shutil.copy(tiny_checkpoint.checkpoint, tmp_path / "again.pt")
+    log = softarm("train", str(recordings / "s0.mcap"), "--out", "again.pt", "--resume", cwd=tmp_path).stdout
+    lines = [line for line in log.splitlines() if line.startswith(("reading", "fitting"))]
+    assert lines[0] == "reading: started, 1 recordings" and lines[-1].startswith("fitting: ended at 4 of 4 fits"), log
