@@ -31,7 +31,7 @@ def fit_calibration(state: TrainState) -> dict[str, Any]:
         where.append(np.stack([np.full(int(keep.sum()), n), parts[-1].targets], axis=1))
     picked = evenly(sum(len(w) for w in where), MAX_FRAMES)
     held_out, where = Prediction.join(parts).take(picked), np.concatenate(where)[picked]
-    iou = iou_per_frame(imaginer.decode(held_out.latents), np.stack([data.sequences[n].frames[k] for n, k in where]))
+    iou = iou_per_frame(imaginer.decode(held_out.latents), data.target_frames(where))
     y = np.log(1.0 - iou + CalibratedTrust.MARGIN)
     design = np.column_stack([*calibration_features(held_out, True), np.ones(len(y))])
     weights = np.linalg.lstsq(design, y, rcond=None)[0]

@@ -11,7 +11,7 @@ purpose: the whole training must fit minutes on 2 CPU cores, and replay must dec
 quickly (README has the timings).
 """
 
-from typing import Any, Callable, Protocol
+from typing import Any, Callable, Protocol, Union
 
 import numpy as np
 import torch
@@ -56,9 +56,9 @@ class Autoencoder(nn.Module):
         return self.decode(self.encode(frames))
 
 
-def in_batches(function: Callable[[torch.Tensor], Any], items: torch.Tensor) -> Any:
-    """`function` over `items` BATCH at a time, its answers (a tensor, or a tuple of them) joined: the one
-    inference loop of the model room."""
+def in_batches(function: Callable[[Any], Any], items: Union[torch.Tensor, "Frames"]) -> Any:
+    """`function` over `items` (a tensor, or frames that slice into arrays) BATCH at a time, its answers (a tensor,
+    or a tuple of them) joined: the one inference loop of the model room."""
     answers = [function(items[i:i + BATCH]) for i in range(0, len(items), BATCH)]
     if isinstance(answers[0], tuple):
         return tuple(torch.cat(parts) for parts in zip(*answers))
@@ -74,8 +74,7 @@ class Frames(Protocol):
 @torch.inference_mode()
 def encode_frames(autoencoder: Autoencoder, frames: Frames) -> np.ndarray:
     """Raw latent codes (M, F) of frames (M, H, W), BATCH at a time."""
-    return torch.cat([autoencoder.encode(torch.from_numpy(np.ascontiguousarray(frames[i:i + BATCH])))
-                      for i in range(0, len(frames), BATCH)]).numpy()
+    return in_batches(lambda batch: autoencoder.encode(torch.from_numpy(np.ascontiguousarray(batch))), frames).numpy()
 
 
 @torch.inference_mode()
