@@ -6,7 +6,8 @@ as the negatives; and the latency from each disturbance's onset to the first ala
 none comes), at two thresholds: the checkpoint's own (set on its training motion), and the lowest that starts at
 most `PER_MINUTE` false alarms a minute over the suite's undisturbed families, `sensor_noise` among them (its
 sensors are noisier than the model's, and the surprise expects the noise it is told of:
-`SurpriseModel.heard_through`).
+`SurpriseModel.heard_through`). Where an obstacle stands, also the AUROC against the frames the arm touches it in
+and the bounds its label sets (`touch_scores`).
 """
 
 from dataclasses import dataclass
@@ -69,23 +70,31 @@ def surprise_report(cases: list[CaseSurprise], own_threshold: float, frame_dt: f
         finite = np.isfinite(score)
         families[family] = {"auroc": auroc(score[finite], label[finite]), "disturbances": sum(len(c.onsets) for c in mine),
                             **latencies(mine, suite_threshold, frame_dt, "suite"),
-                            **latencies(mine, own_threshold, frame_dt, "own"), **touch_scores(mine, negatives)}
+                            **latencies(mine, own_threshold, frame_dt, "own"), **touch_scores(mine, negatives, frame_dt)}
     return {"families": families, "thresholds": {"suite": suite_threshold, "own": own_threshold},
             "false_alarms_per_minute": {"suite": alarm_rate(calm, suite_threshold, frame_dt),
                                         "own": alarm_rate(calm, own_threshold, frame_dt)},
             "per_minute_goal": PER_MINUTE}
 
 
-def touch_scores(cases: list[CaseSurprise], negatives: np.ndarray) -> dict[str, float]:
+def touch_scores(cases: list[CaseSurprise], negatives: np.ndarray, frame_dt: float) -> dict[str, float]:
     """Where the family's recordings mark touches: the AUROC against the frames the arm touches (the rest of the
-    family's frames and the undisturbed families' as negatives), and the share of frames touching."""
+    family's frames and the undisturbed families' as negatives), the share of frames touching, and two bounds the
+    label sets: the AUROC of a surprise that felt exactly the touches (a one-step forward model that knew the body
+    whole: the obstacle pushes only while touched, and standing untouched it is felt by nothing), and the median
+    time from an obstacle's onset to the arm's first touch, before which no alarm can answer it."""
     if not cases or any(c.touching is None for c in cases):
         return {}
     score = np.concatenate([*(c.surprise for c in cases), negatives])
-    label = np.concatenate([*(c.touching for c in cases), np.zeros(len(negatives), bool)])
+    touching = np.concatenate([*(c.touching for c in cases), np.zeros(len(negatives), bool)])
+    label = np.concatenate([*(c.active for c in cases), np.zeros(len(negatives), bool)])
     finite = np.isfinite(score)
-    return {"auroc_touching": auroc(score[finite], label[finite]),
-            "touching_share": float(np.mean(np.concatenate([c.touching for c in cases])))}
+    first = [np.flatnonzero(c.touching[start:end]) for c in cases for start, end in c.onsets]
+    reached = [f[0] * frame_dt * 1e3 for f in first if len(f)]
+    return {"auroc_touching": auroc(score[finite], touching[finite]),
+            "touching_share": float(np.mean(np.concatenate([c.touching for c in cases]))),
+            "auroc_touch_only": auroc(touching[finite].astype(float), label[finite]),
+            "first_touch_ms": float(np.median(reached)) if reached else float("nan")}
 
 
 def latencies(cases: list[CaseSurprise], threshold: float, frame_dt: float, name: str) -> dict[str, float]:

@@ -1,6 +1,7 @@
 """The confidence scores against brute-force definitions."""
 
 import numpy as np
+import pytest
 
 from softarm.model.prediction import Prediction
 from softarm.model.trust import ErrorHeadTrust
@@ -62,3 +63,8 @@ def test_an_obstacle_marks_the_frames_a_free_node_is_inside_it():
     calm = case_surprise("multisine_low", np.ones(95), targets, t, np.zeros((100, 0), bool), [])
     row = surprise_report([case, calm], 3.0, 0.01)["families"]["contact"]
     assert row["auroc_touching"] == 1.0 and row["touching_share"] == 20 / 95 and row["auroc"] < 1.0
+    # the bounds the label sets: the 20 touching frames outrank the 95 negatives, the other 75 tie with them; the
+    # first touch comes at the first target whose free node is inside the disc
+    assert row["auroc_touch_only"] == (20 + 0.5 * 75) / 95
+    first = np.flatnonzero(np.abs(positions[targets, 1, 0]) < 0.1)[0]
+    assert first > 0 and row["first_touch_ms"] == pytest.approx(first * 10.0)
