@@ -7,6 +7,7 @@ trained on, how far training got (for --resume), the baselines and the metrics. 
 (`softarm-checkpoint/1`: the stretch alone, an LSTM) is read as today's.
 """
 
+import warnings
 from pathlib import Path
 from typing import Any, Union
 
@@ -32,11 +33,15 @@ def save_checkpoint(path: Union[str, Path], state: dict[str, Any]) -> Path:
 def load_checkpoint(path: Union[str, Path]) -> dict[str, Any]:
     """The checkpoint's contents; a missing, foreign or damaged file raises CheckpointError."""
     path = input_file(path, "checkpoint", CheckpointError)
-    try:
-        state = torch.load(path, map_location="cpu", weights_only=True)
-    except Exception as e:  # a damaged file fails anywhere in torch's unpickler or zip reader, in any way
-        raise CheckpointError(f"{path} is not a softarm checkpoint, or is damaged ({type(e).__name__}: "
-                              f"{first_line(e)})") from None
+    with warnings.catch_warnings(record=True) as heard:  # torch warns of what it reads in a foreign file first
+        warnings.simplefilter("always")
+        try:
+            state = torch.load(path, map_location="cpu", weights_only=True)
+        except Exception as e:  # a damaged file fails anywhere in torch's unpickler or zip reader, in any way
+            raise CheckpointError(f"{path} is not a softarm checkpoint, or is damaged ({type(e).__name__}: "
+                                  f"{first_line(e)})") from None
+    for warning in heard:  # a file that loads keeps what torch said of it
+        warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
     if not isinstance(state, dict) or state.get("format") not in (FORMAT, PREVIOUS):
         raise CheckpointError(f"{path} is not a softarm checkpoint (expected format {FORMAT})")
     try:

@@ -10,6 +10,7 @@ import subprocess
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from softarm.record.reader import read_recording
@@ -96,7 +97,9 @@ def test_a_second_run_on_the_same_output_is_refused_and_the_first_finishes_whole
 
 
 def test_damaged_checkpoints_and_corpus_manifests_get_one_line(rec, tmp_path):
-    (tmp_path / "random.pt").write_bytes(os.urandom(5000))
+    # random bytes, opening as a pickle of protocol 83: torch warns of that before it fails, and the user still
+    # gets one line
+    (tmp_path / "random.pt").write_bytes(b"\x80\x53" + np.random.default_rng(0).bytes(4998))
     assert_one_line_error(softarm("replay", "random.pt", "x.mcap", cwd=tmp_path), "random.pt", "not a softarm checkpoint")
     suite = mini_suite(tmp_path / "suite", rec)
     assert_one_line_error(softarm("evaluate", "random.pt", str(suite), cwd=tmp_path), "random.pt")
