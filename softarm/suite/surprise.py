@@ -70,29 +70,29 @@ def surprise_report(cases: list[CaseSurprise], own_threshold: float, frame_dt: f
         finite = np.isfinite(score)
         families[family] = {"auroc": auroc(score[finite], label[finite]), "disturbances": sum(len(c.onsets) for c in mine),
                             **latencies(mine, suite_threshold, frame_dt, "suite"),
-                            **latencies(mine, own_threshold, frame_dt, "own"), **touch_scores(mine, negatives, frame_dt)}
+                            **latencies(mine, own_threshold, frame_dt, "own"), **touch_scores(mine, score, label, frame_dt)}
     return {"families": families, "thresholds": {"suite": suite_threshold, "own": own_threshold},
             "false_alarms_per_minute": {"suite": alarm_rate(calm, suite_threshold, frame_dt),
                                         "own": alarm_rate(calm, own_threshold, frame_dt)},
             "per_minute_goal": PER_MINUTE}
 
 
-def touch_scores(cases: list[CaseSurprise], negatives: np.ndarray, frame_dt: float) -> dict[str, float]:
+def touch_scores(cases: list[CaseSurprise], score: np.ndarray, label: np.ndarray, frame_dt: float) -> dict[str, float]:
     """Where the family's recordings mark touches: the AUROC against the frames the arm touches (the rest of the
     family's frames and the undisturbed families' as negatives), the share of frames touching, and two bounds the
     label sets: the AUROC of a surprise that felt exactly the touches (a one-step forward model that knew the body
     whole: the obstacle pushes only while touched, and standing untouched it is felt by nothing), and the median
-    time from an obstacle's onset to the arm's first touch, before which no alarm can answer it."""
+    time from an obstacle's onset to the arm's first touch, before which no alarm can answer it. `score` and
+    `label` are the family's AUROC inputs: its cases' frames, then the negatives."""
     if not cases or any(c.touching is None for c in cases):
         return {}
-    score = np.concatenate([*(c.surprise for c in cases), negatives])
-    touching = np.concatenate([*(c.touching for c in cases), np.zeros(len(negatives), bool)])
-    label = np.concatenate([*(c.active for c in cases), np.zeros(len(negatives), bool)])
+    family = np.concatenate([c.touching for c in cases])
+    touching = np.zeros(len(score), bool)
+    touching[:len(family)] = family
     finite = np.isfinite(score)
     first = [np.flatnonzero(c.touching[start:end]) for c in cases for start, end in c.onsets]
     reached = [f[0] * frame_dt * 1e3 for f in first if len(f)]
-    return {"auroc_touching": auroc(score[finite], touching[finite]),
-            "touching_share": float(np.mean(np.concatenate([c.touching for c in cases]))),
+    return {"auroc_touching": auroc(score[finite], touching[finite]), "touching_share": float(family.mean()),
             "auroc_touch_only": auroc(touching[finite].astype(float), label[finite]),
             "first_touch_ms": float(np.median(reached)) if reached else float("nan")}
 
