@@ -12,6 +12,7 @@ import numpy as np
 
 from softarm.arm.body import Body
 from softarm.config import Config, MuscleGroupConfig
+from softarm.config.keys import require
 from softarm.errors import ConfigError
 
 SIDES = ("left", "right")
@@ -45,9 +46,6 @@ def build_muscles(config: Config, body: Body) -> Muscles:
     """The config's muscle groups as spring masks, every group checked and named in its errors."""
     columns, rows = config.body.columns, config.body.rows
     group = np.full(len(body.springs), -1, np.int32)
-    if config.muscles.time_constant <= 0:
-        raise ConfigError(f"config key 'muscles.time_constant' = {config.muscles.time_constant!r} is out of range: "
-                          "must be > 0 s")
     for g, spec in enumerate(config.muscles.groups):
         springs = _springs_of(spec, f"muscles.groups[{g}]", rows, columns, len(body.springs))
         taken = springs[group[springs] >= 0]
@@ -70,9 +68,7 @@ def edge_springs(side: str, first: int, last: int, rows: int, columns: int) -> n
 
 
 def _springs_of(spec: MuscleGroupConfig, key: str, rows: int, columns: int, count: int) -> np.ndarray:
-    if not 0 < spec.max_contraction < 1:
-        raise ConfigError(f"config key '{key}.max_contraction' = {spec.max_contraction!r} is out of range: "
-                          "must be in (0, 1) (the share of the rest length a full activation takes off)")
+    require("muscles.groups[].max_contraction", spec.max_contraction, f"{key}.max_contraction")
     if (spec.springs is None) == (spec.side is None):
         raise ConfigError(f"config key '{key}' ({spec.name}) needs either side and rows, or springs")
     if spec.springs is not None:

@@ -1,6 +1,6 @@
 """Print an evaluation JSON (`softarm evaluate ... --json FILE`) as the README's Markdown table.
 
-    python docs/suite_table.py recordings/paper_suite.json
+    python docs/scripts/suite_table.py recordings/paper_suite.json
 """
 
 import json

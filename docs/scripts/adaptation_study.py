@@ -2,7 +2,7 @@
 or a damaged segment), S seconds of camera after the change, and the imagination of 20-40 s (camera off) before
 and after `softarm adapt`, beside the same arm's run without the change (what was lost).
 
-    python docs/adaptation_study.py recordings/general.pt recordings/adaptation [--seeds 3] [--json out.json]
+    python docs/scripts/adaptation_study.py recordings/general.pt recordings/adaptation [--seeds 3] [--json out.json]
 
 One core (torch's threads set to 1), as the issue asks; the recordings are made once in the folder.
 """

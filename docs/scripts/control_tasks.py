@@ -2,7 +2,7 @@
 of one episode, driven by a scripted command (the static command of the nearest workspace place, ramped over
 one second; Hold: the passive arm).
 
-    python docs/control_tasks.py docs/control_tasks.png
+    python docs/scripts/control_tasks.py docs/images/control_tasks.png
 """
 
 import sys

@@ -1,7 +1,7 @@
-"""Makes docs/world_filmstrip.png: the world acting on the arm, camera frames of a contact and of a push with the
+"""Makes docs/images/world_filmstrip.png: the world acting on the arm, camera frames of a contact and of a push with the
 obstacle (orange) and the pushed nodes while pushed (red) drawn over them.
 
-    python docs/make_world_picture.py
+    python docs/scripts/make_world_picture.py
 """
 
 import tempfile
@@ -47,7 +47,7 @@ def main() -> None:
             simulate(load_config(overrides={"run.duration": 4.0, "disturbances": [table], **SWING}), path)
             rows.append(coloured(read_recording(path), table, TIMES))
     strip = filmstrip(rows, ["contact", "push"], TIMES)
-    print(save_png(strip, Path(__file__).parent / "world_filmstrip.png"))
+    print(save_png(strip, Path(__file__).parents[1] / "images" / "world_filmstrip.png"))
 
 
 if __name__ == "__main__":

@@ -6,7 +6,7 @@ the native recording it was made from, both scored on the last 5 s against the n
         --drive /arm/command:position --roi 190,30,260,420 --out recordings/seed0_imported.mcap
     softarm train recordings/seed0.mcap --out recordings/native.pt
     softarm train recordings/seed0_imported.mcap --out recordings/imported.pt
-    python docs/real_robot_score.py recordings/seed0.mcap recordings/native.pt recordings/seed0_imported.mcap \
+    python docs/scripts/real_robot_score.py recordings/seed0.mcap recordings/native.pt recordings/seed0_imported.mcap \
         recordings/imported.pt
 """
 
