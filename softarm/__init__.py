@@ -30,7 +30,7 @@ from typing import Any
 # Taichi prints a banner on import; softarm's output is its own (the CLI's --quiet must mean quiet).
 os.environ.setdefault("ENABLE_TAICHI_HEADER_PRINT", "false")
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 _API = {
     "load_config": "softarm.config",
