@@ -5,7 +5,7 @@ from typing import Annotated, Optional
 
 import typer
 from softarm_cli.console import err, out, run_or_exit, say
-from softarm_cli.options import Checkpoint, Force, Quiet, SensorNoise
+from softarm_cli.options import Checkpoint, Device, Force, Quiet, SensorNoise
 from softarm_cli.progress import LazyProgress
 from softarm_cli.tables import replay_table, suite_table
 
@@ -22,6 +22,7 @@ def replay(
     blind: Annotated[Optional[list[str]], typer.Option("--blind", metavar="START:END", help="Camera blackout START:END in seconds (repeatable); metrics split blind / seeing.")] = None,
     sensor_noise: SensorNoise = None,
     spawn: Annotated[bool, typer.Option("--spawn", help="Show the timeline in a Rerun viewer.")] = False,
+    device: Device = "auto",
     force: Force = False,
     quiet: Quiet = False,
 ) -> None:
@@ -34,7 +35,8 @@ def replay(
 
     noise = run_or_exit(lambda: parse_imperfections(sensor_noise)) if sensor_noise else None
     result = run_or_exit(lambda: run_replay(checkpoint, recording, blind or [], rrd=rrd, mcap=mcap, png=png,
-                                            spawn=spawn, force=force, sensor_noise=noise, png_span=png_span))
+                                            spawn=spawn, force=force, sensor_noise=noise, png_span=png_span,
+                                            device=device))
     if not quiet:
         out.print(replay_table(result.metrics))
         written = ", ".join(str(p) for p in (rrd, mcap, png) if p is not None)
@@ -49,6 +51,7 @@ def evaluate(
     png: Annotated[Optional[Path], typer.Option("--png", help="Write the per-family IoU bars (model vs baselines).")] = None,
     trust_png: Annotated[Optional[Path], typer.Option("--trust-png", help="Write every confidence's sparsification curve beside the oracle's.")] = None,
     sensor_noise: SensorNoise = None,
+    device: Device = "auto",
     force: Force = False,
     quiet: Quiet = False,
 ) -> None:
@@ -64,6 +67,6 @@ def evaluate(
     with LazyProgress(err, "evaluating", 1, "recordings", quiet=quiet, log=out) as bar:
         evaluation = run_or_exit(lambda: run_evaluation(checkpoint, suite_folder, json_path=json_path, png=png,
                                                         sensor_noise=noise, force=force, progress=bar.update,
-                                                        trust_png=trust_png))
+                                                        trust_png=trust_png, device=device))
     if not quiet:
         out.print(suite_table(evaluation))

@@ -7,11 +7,14 @@ from typing import Annotated, Optional
 import typer
 
 from softarm.config import load_config
+from softarm.config.keys import DEVICES
 from softarm.sim import ARCHS
 
 D = load_config()
 
 Arch = Annotated[str, typer.Option(help=f"Taichi backend: {' | '.join(ARCHS)}.")]
+DEVICE_HELP = f"Where torch runs: {' | '.join(DEVICES)} (auto: a CUDA GPU when torch sees one, else the CPU)."
+Device = Annotated[str, typer.Option("--device", help=DEVICE_HELP)]
 Force = Annotated[bool, typer.Option("--force", help="Overwrite existing outputs (never an input).")]
 Quiet = Annotated[bool, typer.Option("--quiet", "-q", help="No progress and no summary.")]
 ConfigFile = Annotated[Optional[Path], typer.Option("--config", "-c", help="TOML config; omitted keys keep their defaults (see `softarm config`).")]

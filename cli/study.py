@@ -5,7 +5,7 @@ from typing import Annotated, Optional
 
 import typer
 from softarm_cli.console import complain, err, out, run_or_exit, say
-from softarm_cli.options import Quiet
+from softarm_cli.options import Device, Quiet
 from softarm_cli.progress import StagedProgress
 
 from softarm.study.builtin import BUILTIN
@@ -21,6 +21,7 @@ def study(
     quick: Annotated[bool, typer.Option("--quick", help=f"A small corpus ({QUICK.arms} arms x {QUICK.duration:g} s), {QUICK.train['train.max_steps_ae']} + {QUICK.train['train.max_steps_lstm']} training steps, one recording per suite level, and only the study's quick trials (sensors: {len(SENSORS.quick)} of {len(SENSORS.trials)}); a few minutes here.")] = False,
     address: Annotated[Optional[str], typer.Option("--address", help="Join this running Ray cluster (e.g. 10.0.0.1:6379) [default: start Ray here, one trial per core].")] = None,
     trials: Annotated[Optional[int], typer.Option("--trials", help="Run only the first N trials of the study (of its quick ones with --quick).")] = None,
+    device: Device = "auto",
     force: Annotated[bool, typer.Option("--force", help="Forget the trials recorded in DIR and run every one again (also another study's DIR).")] = False,
     quiet: Quiet = False,
 ) -> None:
@@ -35,7 +36,7 @@ def study(
 
     with StagedProgress(err, STAGES, quiet=quiet, log=out) as progress:
         result = run_or_exit(lambda: run_study(name, out_dir, QUICK if quick else FULL, address=address, trials=trials,
-                                               force=force, progress=progress))
+                                               force=force, progress=progress, device=device))
     finished = sum(r.status != "pending" for r in result.records)
     if not result.complete:
         complain(f"interrupted: {out_dir / 'trials.jsonl'} keeps {finished} of {len(result.records)} trials; run the "

@@ -5,7 +5,7 @@ from typing import Annotated, Optional
 
 import typer
 from softarm_cli.console import complain, err, out, run_or_exit, say
-from softarm_cli.options import Checkpoint, ConfigFile, D, Force, Quiet
+from softarm_cli.options import DEVICE_HELP, Checkpoint, ConfigFile, D, Device, Force, Quiet
 from softarm_cli.progress import StagedProgress
 from softarm_cli.tables import metrics_table
 
@@ -29,6 +29,7 @@ def train(
     latent: Annotated[Optional[int], typer.Option(help=f"Latent features of the autoencoder [default: {D.train.latent}].")] = None,
     seed: Annotated[Optional[int], typer.Option(help=f"Seed of initialisation and shuffling [default: {D.train.seed}].")] = None,
     minutes: Annotated[Optional[float], typer.Option(help="Fit the schedules into this many minutes of training, measured on this machine (sets train.max_steps_*; not reproducible elsewhere).")] = None,
+    device: Annotated[Optional[str], typer.Option("--device", help=f"{DEVICE_HELP} [default: {D.train.device}].")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue the interrupted run saved in --out.")] = False,
     spawn: Annotated[bool, typer.Option("--spawn", help="Open a Rerun viewer with live losses and a held-out clip.")] = False,
     rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Save the live view to this .rrd file.")] = None,
@@ -44,7 +45,8 @@ def train(
 
     overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.model": model, "train.history": history,
                  "train.inputs": [name.strip() for name in inputs.split(",")] if inputs else None,
-                 "train.include_current": include_current, "train.latent": latent, "train.seed": seed}
+                 "train.include_current": include_current, "train.latent": latent, "train.seed": seed,
+                 "train.device": device}
     cfg = run_or_exit(lambda: load_config(config, overrides))
     with StagedProgress(err, TRAINING_STAGES, quiet=quiet, log=out) as staged:
         result = run_or_exit(lambda: run_training(recordings, cfg, out_path, resume=resume, force=force, spawn=spawn,
@@ -71,6 +73,7 @@ def adapt(
     seconds: Annotated[float, typer.Option("--seconds", "-s", help="Seconds of camera to adapt on.")],
     out_path: Annotated[Path, typer.Option("--out", "-o", help="The adapted checkpoint.")],
     start: Annotated[Optional[float], typer.Option("--from", metavar="SECONDS", help="When the camera turns on [default: the recording's first lasting disturbance, else the surprise's first alarm].")] = None,
+    device: Device = "auto",
     force: Force = False,
     quiet: Quiet = False,
 ) -> None:
@@ -82,7 +85,8 @@ def adapt(
     """
     from softarm.learn.adapt_run import adapt as run_adapt
 
-    result = run_or_exit(lambda: run_adapt(checkpoint, recording, seconds, out_path, start=start, force=force))
+    result = run_or_exit(lambda: run_adapt(checkpoint, recording, seconds, out_path, start=start, force=force,
+                                           device=device))
     m = result.metrics
     if not quiet:
         say(f"adapted on {m['camera_frames']} frames from {m['from_s']:.2f} s in {m['adapt_seconds']:.2f} s; the rest "

@@ -15,6 +15,7 @@ MAX_SEED = 2**32 - 1
 INTEGRATORS = ("symplectic_euler",)
 EXCITATION_KINDS = ("product_of_sines", "sum_of_sines")
 PRECISIONS = ("auto", "fp32", "bf16")  # train.precision: softarm.learn.precision
+DEVICES = ("auto", "cpu", "cuda")      # train.device: softarm.model.device
 
 
 @dataclass(frozen=True)
@@ -188,6 +189,7 @@ KEYS: dict[str, Key] = {
     "train.min_feature_std": Key(rule=between(0, 1)),
     "train.seed": Key(rule=seed()),
     "train.precision": Key(rule=one_of(PRECISIONS)),
+    "train.device": Key(rule=one_of(DEVICES)),
     "train.node_target": Key(rule=at_least(0, " (0: no node target)")),
     "train.ensemble": Key(rule=Rule("must be in 1..16 (1: one model)", lambda v: 1 <= v <= 16)),
     "train.confidence": Key(),  # one of the trust registry's kinds: checked in `checks`

@@ -94,24 +94,38 @@ def key_docs() -> list[KeyDoc]:
 
 
 def config_reference() -> str:
-    """The reference page: one table per config section, with the section's own introduction."""
+    """The reference page: a heading per config table (`[body]`, `[[muscles.groups]]`) with its introduction, then a
+    row per key of it, named as the table spells it."""
     _, intros = comments()
     lines = ["# Config reference", "",
              "Every key of `softarm config`, generated from the schema, the documented defaults and the declared "
              "ranges (`softarm/config/keys.py`). Units are SI. Give only the keys you change in a TOML file "
-             "(`--config FILE`); a value out of range is refused in one line that names the key.", ""]
-    section = None
+             "(`--config FILE`) or as a dotted override (`load_config(overrides={\"body.rows\": 21})`); a value out "
+             "of range is refused in one line that names the key.", ""]
+    table = None
     for doc in key_docs():
-        top = doc.key.split(".")[0].split("[")[0]
-        if top != section:
-            section = top
-            lines += ["", f"## `[{section}]`", ""]
-            if intros.get(section):
-                lines += [_escape(intros[section]), ""]
-            lines += ["| key | type | default | unit | range | meaning |", "|---|---|---|---|---|---|"]
-        lines.append(f"| `{doc.key}` | {doc.type} | {_escape(doc.default)} | {doc.unit} | {_escape(doc.range)} | "
+        if doc.type == "array of tables":  # a heading of its own, its keys below it
+            table = f"{doc.key}[]"
+            lines += ["", f"{_heading(doc.key)} `[[{doc.key}]]`", "", _escape(doc.meaning), "", *_TABLE_HEAD]
+            continue
+        owner, _, name = doc.key.rpartition(".")
+        if owner != table:
+            table = owner
+            lines += ["", f"{_heading(owner)} `[{owner}]`", ""]
+            if intros.get(owner):
+                lines += [_escape(intros[owner]), ""]
+            lines += _TABLE_HEAD
+        lines.append(f"| `{name}` | {doc.type} | {_escape(doc.default)} | {doc.unit} | {_escape(doc.range)} | "
                      f"{_escape(doc.meaning)} |")
     return "\n".join(lines) + "\n"
+
+
+_TABLE_HEAD = ["| key | type | default | unit | range | meaning |", "|---|---|---|---|---|---|"]
+
+
+def _heading(table: str) -> str:
+    """`##` for a top-level table, `###` for one inside another (`[excitation.sum_of_sines]`)."""
+    return "###" if "." in table.replace("[]", "") else "##"
 
 
 def _array_table(hint: Any) -> Union[type, None]:

@@ -186,6 +186,7 @@ class TrainConfig:
     min_feature_std: float
     seed: int
     precision: str = "auto"
+    device: str = "auto"
     node_target: float = 0.0
     ensemble: int = 1
     confidence: str = "calibrated"

@@ -41,14 +41,14 @@ class Replay:
 
 def compute_replay(checkpoint: Union[str, Path], recording: Union[str, Path],
            blind: Sequence[tuple[float, float]] = (), nodes: bool = True,
-                   sensor_noise: Optional[dict[str, Any]] = None) -> Replay:
+                   sensor_noise: Optional[dict[str, Any]] = None, device: str = "auto") -> Replay:
     """Imagine every frame of `recording` from its input signals and score it against the camera.
 
     The inputs are read as the checkpoint was trained to read them, with `sensor_noise` (keys of the
     [sensing] section but pairs) replacing its imperfections. nodes=False skips the node positions
-    (only the Rerun view draws them; they are a third of the reading).
+    (only the Rerun view draws them; they are a third of the reading). The networks run on `device`.
     """
-    model = TrainedModel(checkpoint)
+    model = TrainedModel(checkpoint, device)
     reading = model.read(recording, sensor_noise, nodes)
     imaginer = model.imaginer_for(reading.config)
     rec = reading.recording

@@ -37,12 +37,13 @@ class ReplayOutcome:
 def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (), rrd: Optional[PathLike] = None,
            mcap: Optional[PathLike] = None, png: Optional[PathLike] = None, spawn: bool = False,
            force: bool = False, sensor_noise: Optional[dict[str, Any]] = None,
-           png_span: Optional[str] = None) -> ReplayOutcome:
+           png_span: Optional[str] = None, device: str = "auto") -> ReplayOutcome:
     """Imagine every frame of `recording` with `checkpoint` and score it; write the outputs asked for.
 
     `blind` takes camera blackouts as 'START:END' seconds; `sensor_noise` replaces the imperfections the
-    checkpoint was trained with (keys of the [sensing] config section). Every output is checked before the replay
-    starts, so a refused path costs nothing; each is written whole or not at all.
+    checkpoint was trained with (keys of the [sensing] config section); the networks run on `device` (auto | cpu |
+    cuda). Every output is checked before the replay starts, so a refused path costs nothing; each is written
+    whole or not at all.
     """
     from softarm.record.reader import read_model
 
@@ -56,7 +57,8 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
     from softarm.imagine.replay import compute_replay  # torch loads here, not when softarm is imported
 
     with made_folders(outputs), claimed(outputs):
-        result = compute_replay(checkpoint, recording, ranges, nodes=rrd is not None or spawn, sensor_noise=sensor_noise)
+        result = compute_replay(checkpoint, recording, ranges, nodes=rrd is not None or spawn, sensor_noise=sensor_noise,
+                                device=device)
         write_outputs(result, rrd, mcap, png, spawn, span)
     return ReplayOutcome(result, time.perf_counter() - start)
 

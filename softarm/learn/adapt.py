@@ -19,6 +19,7 @@ import numpy as np
 import torch
 
 from softarm.model.autoencoder import encode_frames
+from softarm.model.device import tensor_on
 from softarm.model.imaginer import Imaginer
 from softarm.model.latent import LatentModel
 from softarm.model.surprise import LAGS, SurpriseModel
@@ -46,8 +47,9 @@ def adapt_models(imaginer: Imaginer, window: Window) -> Imaginer:
     frames = np.arange(max(window.start, imaginer.latent.first_frame), window.end)
     codes = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, window.frames[frames]))
     read = window.inputs[:window.end].astype(np.float32)
-    models = [fine_tuned(model, torch.from_numpy(read), torch.from_numpy(frames - lead),
-                         torch.from_numpy(codes.astype(np.float32))) for model in (imaginer.latent, *imaginer.members)]
+    device = imaginer.latent.device  # the fine-tuning runs where the networks are
+    models = [fine_tuned(model, tensor_on(read, device), tensor_on(frames - lead, device),
+                         tensor_on(codes.astype(np.float32), device)) for model in (imaginer.latent, *imaginer.members)]
     surprise = imaginer.surprise
     if surprise is not None:
         surprise = adapted_surprise(surprise, models[0].states(read), read.astype(np.float64), window.start, SHRINK)

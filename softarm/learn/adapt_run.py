@@ -26,8 +26,9 @@ class AdaptResult:
 
 
 def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLike, start: Optional[float] = None,
-          force: bool = False) -> AdaptResult:
-    """Fine-tune the latent models to `seconds` of `recording`'s camera from `start` and save the result in `out`."""
+          force: bool = False, device: str = "auto") -> AdaptResult:
+    """Fine-tune the latent models to `seconds` of `recording`'s camera from `start` on `device` and save the
+    result in `out`."""
     if not (np.isfinite(seconds) and seconds > 0):
         raise ConfigError(f"--seconds {seconds:g}: give a finite, positive number of seconds of camera")
     from softarm.record.reader import read_model
@@ -40,7 +41,7 @@ def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLi
     from softarm.model.metrics import iou_per_frame
     from softarm.model.trained import TrainedModel
 
-    model = TrainedModel(checkpoint)
+    model = TrainedModel(checkpoint, device)
     reading = model.read(recording)
     rec, imaginer = reading.recording, model.imaginer
     before = imaginer.predict(reading.inputs)

@@ -10,6 +10,7 @@ frames it returns, as uint8 0/1 arrays equal to indexing the unpacked frames.
 from typing import Any, Sequence
 
 import numpy as np
+import torch
 
 CHUNK = 4096  # frames unpacked at a time where all of them are summed
 
@@ -49,6 +50,11 @@ class PackedFrames:
         """The frames `key` picks (a slice or an index or mask array), still packed."""
         return PackedFrames(self.bits[key], self.width)
 
+    def on(self, device: torch.device) -> "DeviceFrames":
+        """The same frames as one packed tensor on `device`, unpacked there a batch at a time: a training's
+        batches never cross from the host (on the CPU the tensor is this array's own memory)."""
+        return DeviceFrames(torch.from_numpy(self.bits).to(device), self.width)
+
     def mean(self) -> np.ndarray:
         """(H, W) float64: the mean frame, as `np.mean(frames, axis=0)` of the unpacked frames gives it (the sums
         are integer counts, exact in any order)."""
@@ -56,3 +62,20 @@ class PackedFrames:
         for start in range(0, len(self), CHUNK):
             total += self[start:start + CHUNK].sum(axis=0, dtype=np.int64)
         return total / len(self)
+
+
+class DeviceFrames:
+    """Packed frames on a torch device: `frames[index]` is the (N, H, W) uint8 0/1 tensor of the frames an index
+    tensor picks, unpacked on the device with the bit order of `np.unpackbits` (first pixel highest)."""
+
+    def __init__(self, bits: torch.Tensor, width: int):
+        self.bits = bits
+        self.width = width
+        self.shifts = torch.arange(7, -1, -1, dtype=torch.uint8, device=bits.device)
+
+    def __len__(self) -> int:
+        return len(self.bits)
+
+    def __getitem__(self, index: torch.Tensor) -> torch.Tensor:
+        picked = self.bits[index]
+        return ((picked.unsqueeze(-1) >> self.shifts) & 1).flatten(-2)[..., :self.width]

@@ -20,11 +20,18 @@ def cpu_has_bf16() -> bool:
     return bool(torch.backends.mkldnn.is_available() and torch.ops.mkldnn._is_mkldnn_bf16_supported())
 
 
-def forward_precision(precision: str) -> ContextManager:
-    """The context a training step's forward pass (and loss) runs in, for "fp32" or "bf16" ("auto" is settled
-    before training starts); the backward pass runs outside it."""
+def has_bf16(device: torch.device) -> bool:
+    """Whether `device` runs bf16 natively: the CPU's oneDNN as above, a GPU from Ampere on."""
+    if device.type == "cuda":
+        return bool(torch.cuda.is_bf16_supported())
+    return cpu_has_bf16()
+
+
+def forward_precision(precision: str, device: str = "cpu") -> ContextManager:
+    """The context a training step's forward pass (and loss) runs in on a `device` of that type ("cpu", "cuda"),
+    for "fp32" or "bf16" ("auto" is settled before training starts); the backward pass runs outside it."""
     if precision == "bf16":
-        return torch.autocast("cpu", dtype=torch.bfloat16)
+        return torch.autocast(device, dtype=torch.bfloat16)
     if precision == "fp32":
         return contextlib.nullcontext()
     raise ValueError(f"precision {precision!r}: settle 'auto' with step_times.fastest_precision first")

@@ -13,8 +13,9 @@ from typing import Callable, Sequence
 import torch
 import torch.nn.functional as F
 
-from softarm.learn.precision import cpu_has_bf16, forward_precision
+from softarm.learn.precision import forward_precision, has_bf16
 from softarm.learn.train_state import TrainState
+from softarm.model.device import device_of, synchronize, tensor_on
 from softarm.model.registry import latent_model_class
 
 ROUNDS = 5  # timed steps of each precision, taken in turns
@@ -27,12 +28,15 @@ def seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor],
     machine's drift falls on all alike); the model's weights and statistics are left as they were."""
     saved = copy.deepcopy(model.state_dict())  # batch normalisation updates its running statistics in training mode
     model.train()
+    device = device_of(model)
 
     def step(precision: str) -> float:
+        synchronize(device)  # a GPU's queue empty before the clock starts, and again before it stops
         start = time.perf_counter()
-        with forward_precision(precision):
+        with forward_precision(precision, device.type):
             value = loss()
         value.backward()
+        synchronize(device)
         return time.perf_counter() - start
 
     for precision in precisions:
@@ -44,7 +48,7 @@ def seconds_per_step(model: torch.nn.Module, loss: Callable[[], torch.Tensor],
 
 
 def autoencoder_steps(state: TrainState, precisions: Sequence[str]) -> dict[str, float]:
-    frames = torch.from_numpy(state.data.frames("train")[:state.config.train.batch_ae]).float()
+    frames = tensor_on(state.data.frames("train")[:state.config.train.batch_ae], state.device).float()
     loss = lambda: F.binary_cross_entropy_with_logits(state.autoencoder(frames), frames)  # noqa: E731
     return seconds_per_step(state.autoencoder, loss, precisions)
 
@@ -53,8 +57,8 @@ def latent_steps(state: TrainState, precisions: Sequence[str]) -> dict[str, floa
     """A stand-in of the latent model's size, on a dummy batch of its real training shape."""
     t, features = state.config.train, sum(state.data.widths)
     model = latent_model_class(t.model)
-    network = model(features, t.latent, t)
-    batch = model.dummy_batch(t, features)
+    network = model(features, t.latent, t).to(state.device)
+    batch = model.dummy_batch(t, features).to(state.device)
     return seconds_per_step(network, lambda: network(batch)[0].float().square().mean(), precisions)
 
 
@@ -65,7 +69,7 @@ def fastest_precision(state: TrainState) -> str:
     probe then wavers by ±6 %, and 0.7x for the stream LSTM). Asking it of each network keeps a wavering
     autoencoder from trading the LSTM's clear loss for nothing, and the margin keeps fp32's exact arithmetic where
     bf16 gains no more than noise; without native bf16 nothing is tried."""
-    if not cpu_has_bf16():
+    if not has_bf16(state.device):
         return "fp32"
     both = ("fp32", "bf16")
     steps = (autoencoder_steps(state, both), latent_steps(state, both))

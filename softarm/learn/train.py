@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
-from typing import Callable, Iterable, Optional
+from typing import Callable, ContextManager, Iterable, Optional
 
 import numpy as np
 import torch
@@ -23,6 +23,7 @@ from softarm.learn.observer import NoObserver, Progress, TrainingObserver
 from softarm.learn.precision import forward_precision
 from softarm.learn.train_state import TrainState
 from softarm.model.autoencoder import in_batches, reconstruct
+from softarm.model.device import tensor_on
 from softarm.model.latent import LatentModel, Step
 from softarm.model.registry import latent_model_class
 
@@ -90,12 +91,12 @@ def fit_autoencoder(state: TrainState, schedule: "Schedule", out: Path, observer
                     stop: Callable[[], bool]) -> bool:
     """The autoencoder's epochs, binary cross-entropy on the frames of the training segments."""
     t = state.config.train
-    frames = state.data.frames("train")  # packed: a batch is unpacked, and becomes float, only when used
+    frames = state.data.frames("train").on(state.device)  # packed, on the device: a batch is unpacked there
     test = state.data.frames("test")
     test = test[evenly(len(test), MAX_SCORED)]  # a corpus's held-out loss costs what one recording's does
 
     def ae_step(index: torch.Tensor) -> StepLoss:
-        x = torch.from_numpy(frames[index.numpy()]).float()
+        x = frames[index.to(state.device)].float()
         loss = F.binary_cross_entropy_with_logits(state.autoencoder(x), x)
         return loss, loss.item(), len(index)
 
@@ -103,10 +104,11 @@ def fit_autoencoder(state: TrainState, schedule: "Schedule", out: Path, observer
         batches = shuffled(len(frames), t.batch_ae, t.seed, 0, state.epoch)
         steps = (partial(ae_step, i) for i in batches)
         loss = run_epoch(state.autoencoder, state.ae_optimizer, steps, schedule, state.epoch, t.lr_ae, None,
-                         t.precision, lambda i: report(state.epoch * schedule.steps_per_epoch + i, {}), stop)
+                         partial(forward_precision, t.precision, state.device.type),
+                         lambda i: report(state.epoch * schedule.steps_per_epoch + i, {}), stop)
         if loss is None:
             return False
-        with forward_precision(t.precision):  # a reported loss: it may round as the steps do
+        with forward_precision(t.precision, state.device.type):  # a reported loss: it may round as the steps do
             held_out = ae_test_loss(state, test)
         end_epoch(state, out, observer, report, loss, held_out)
         show_clip(state, observer, imagination=False)
@@ -123,12 +125,12 @@ def fit_latent(state: TrainState, model: LatentModel, optimizer: torch.optim.Opt
     while state.epoch < schedule.epochs:
         stepped = lambda i: report(before + state.epoch * schedule.steps_per_epoch + i, {})  # noqa: E731
         loss = run_epoch(model, optimizer, epoch_steps(state.epoch), schedule, state.epoch, t.lr_lstm,
-                         model.clip_norm, t.precision, stepped, stop)
+                         model.clip_norm, partial(forward_precision, t.precision, state.device.type), stepped, stop)
         if loss is None:
             return False
         held_out = float("nan")
         if (state.epoch + 1) % VALIDATE_EVERY == 0 or state.epoch + 1 == schedule.epochs:
-            with forward_precision(t.precision):
+            with forward_precision(t.precision, state.device.type):
                 held_out = held_out_mse(imaginer_of(state, model), state.data, state.codes())
         end_epoch(state, out, observer, report, loss, held_out)
         if state.epoch % 10 == 0 or state.epoch == schedule.epochs:
@@ -140,12 +142,12 @@ StepLoss = tuple[torch.Tensor, float, int]  # (loss to minimise, loss to report,
 
 
 def run_epoch(network: torch.nn.Module, optimizer: torch.optim.Optimizer, steps: Iterable[Step], schedule: Schedule,
-              epoch: int, base_lr: float, clip_norm: Optional[float], precision: str, stepped: Callable[[int], None],
-              stop: Callable[[], bool]) -> Optional[float]:
+              epoch: int, base_lr: float, clip_norm: Optional[float], precision: Callable[[], ContextManager],
+              stepped: Callable[[int], None], stop: Callable[[], bool]) -> Optional[float]:
     """One epoch of either network (cut where the schedule ends): its mean reported loss, or None when
     `stop()` interrupted it. `clip_norm` bounds the gradient norm (recurrent nets need it); each forward pass
-    runs in `precision` (`softarm.learn.precision`), the backward pass outside it; `stepped(i)` hears of every
-    step."""
+    runs in the context `precision()` makes (`softarm.learn.precision`), the backward pass outside it;
+    `stepped(i)` hears of every step."""
     params = [p for group in optimizer.param_groups for p in group["params"]]
     network.train()
     total, seen = 0.0, 0
@@ -155,7 +157,7 @@ def run_epoch(network: torch.nn.Module, optimizer: torch.optim.Optimizer, steps:
             break
         for group in optimizer.param_groups:
             group["lr"] = cosine_lr(base_lr, step, schedule.total)
-        with forward_precision(precision):
+        with precision():
             loss, reported, items = step_loss()
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
@@ -203,7 +205,7 @@ def ae_test_loss(state: TrainState, frames: np.ndarray) -> float:
     def summed(x: torch.Tensor) -> torch.Tensor:
         return F.binary_cross_entropy_with_logits(state.autoencoder(x.float()), x.float(), reduction="sum")[None]
 
-    return float(in_batches(summed, torch.from_numpy(frames)).double().sum()) / frames.size
+    return float(in_batches(summed, tensor_on(frames, state.device)).double().sum()) / frames.size
 
 
 def show_clip(state: TrainState, observer: TrainingObserver, imagination: bool) -> None:

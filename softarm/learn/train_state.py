@@ -23,14 +23,16 @@ from softarm.learn.node_targets import node_outputs, node_targets
 from softarm.model.autoencoder import Autoencoder
 from softarm.model.baselines import Baselines
 from softarm.model.checkpoint import checkpoint_config, load_checkpoint, save_checkpoint
+from softarm.model.device import torch_device
 from softarm.model.inputs import Inputs, channels, chosen_inputs
 from softarm.model.latent import LatentModel, TrainingSeries
 from softarm.model.registry import latent_model_class
 from softarm.model.scaler import Scaler
 from softarm.model.surprise import SurpriseModel
 
-REFITTED = ("confidence", "false_alarms_per_minute")  # what --resume always takes from the asked settings: they are
-# fitted after training, so a finished model sets them anew; a larger train.ensemble asked grows its ensemble
+REFITTED = ("confidence", "false_alarms_per_minute", "device")  # what --resume always takes from the asked settings:
+# the first two are fitted after training, so a finished model sets them anew, and a run continues on the device it
+# is given (a checkpoint holds CPU tensors); a larger train.ensemble asked grows its ensemble
 
 
 @dataclass
@@ -55,6 +57,7 @@ class TrainState:
     calibration: Optional[dict[str, Any]] = None   # the calibrated confidence's map (learn/calibrate.py)
     baselines: Optional[Baselines] = None  # fitted once the model is whole, before the calibration that reads them
     saves: int = 0      # checkpoints this run has written
+    device: torch.device = field(default_factory=lambda: torch.device("cpu"))  # where the networks and batches live
     _codes: Optional[LatentCodes] = field(default=None, repr=False)
 
     def codes(self) -> LatentCodes:
@@ -101,7 +104,7 @@ class TrainState:
         t = self.config.train
         torch.manual_seed(seed)
         network = latent_model_class(t.model)(self.inputs.features, self.latent_scaler.kept, t,
-                                              node_outputs(self.data, t.node_target))
+                                              node_outputs(self.data, t.node_target)).to(self.device)
         return network, adam(network.parameters(), t.lr_lstm)
 
     def training_series(self) -> list[TrainingSeries]:
@@ -189,10 +192,11 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
         config = _saved_config(saved, config)
     config = override(config, {"train.inputs": list(chosen_inputs(config.train.inputs, len(paths), MIN_CORPUS))})
     t = config.train
+    device = torch_device(t.device)  # refused before the recordings are read
     data = load_dataset(paths, config, channels(config.train.inputs), stop, read)
     torch.manual_seed(t.seed)
-    autoencoder = Autoencoder(*data.image_shape, t.latent)
-    state = TrainState(config, data, autoencoder, adam(autoencoder.parameters(), t.lr_ae))
+    autoencoder = Autoencoder(*data.image_shape, t.latent).to(device)
+    state = TrainState(config, data, autoencoder, adam(autoencoder.parameters(), t.lr_ae), device=device)
     if saved is not None:
         state.restore(saved, out)
         if state.phase == "done" and len(state.members) + 1 < t.ensemble:

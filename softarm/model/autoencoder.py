@@ -17,6 +17,8 @@ import numpy as np
 import torch
 from torch import nn
 
+from softarm.model.device import array_of, device_of, tensor_on
+
 BATCH = 256  # frames or codes per pass of inference: the fastest batch on a 2-core CPU
 
 
@@ -73,17 +75,20 @@ class Frames(Protocol):
 
 @torch.inference_mode()
 def encode_frames(autoencoder: Autoencoder, frames: Frames) -> np.ndarray:
-    """Raw latent codes (M, F) of frames (M, H, W), BATCH at a time."""
-    return in_batches(lambda batch: autoencoder.encode(torch.from_numpy(np.ascontiguousarray(batch))), frames).numpy()
+    """Raw latent codes (M, F) of frames (M, H, W), BATCH at a time, on the autoencoder's device."""
+    device = device_of(autoencoder)
+    return array_of(in_batches(lambda batch: autoencoder.encode(tensor_on(batch, device)), frames))
 
 
 @torch.inference_mode()
 def decode_codes(autoencoder: Autoencoder, codes: np.ndarray) -> np.ndarray:
     """Pixel probabilities (M, H, W) of raw latent codes (M, F)."""
-    return in_batches(lambda z: torch.sigmoid(autoencoder.decode(z)), torch.from_numpy(codes.astype(np.float32))).numpy()
+    z = tensor_on(codes.astype(np.float32), device_of(autoencoder))
+    return array_of(in_batches(lambda batch: torch.sigmoid(autoencoder.decode(batch)), z))
 
 
 @torch.inference_mode()
 def reconstruct(autoencoder: Autoencoder, frames: np.ndarray) -> np.ndarray:
     """Pixel probabilities (M, H, W) of the autoencoder's own reconstruction of frames (M, H, W)."""
-    return in_batches(lambda x: torch.sigmoid(autoencoder(x)), torch.from_numpy(frames)).numpy()
+    x = tensor_on(frames, device_of(autoencoder))
+    return array_of(in_batches(lambda batch: torch.sigmoid(autoencoder(batch)), x))

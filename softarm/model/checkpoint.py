@@ -18,15 +18,17 @@ from softarm.config.load import merge
 from softarm.errors import CheckpointError, SoftarmError
 from softarm.files import atomic_path, input_file
 from softarm.model.contents import check_contents
+from softarm.model.device import on_cpu
 
 FORMAT = "softarm-checkpoint/2"
 PREVIOUS = "softarm-checkpoint/1"
 
 
 def save_checkpoint(path: Union[str, Path], state: dict[str, Any]) -> Path:
-    """Write atomically: an interruption leaves the previous epoch's checkpoint, never half of a new one."""
+    """Write atomically: an interruption leaves the previous epoch's checkpoint, never half of a new one. Every
+    tensor is written from the CPU, so the file loads on a machine without the device that trained it."""
     with atomic_path(Path(path)) as part:
-        torch.save({"format": FORMAT, **state}, part)
+        torch.save({"format": FORMAT, **on_cpu(state)}, part)
     return Path(path)
 
 

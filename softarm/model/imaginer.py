@@ -38,8 +38,10 @@ class Imaginer:
     ridge: Optional[tuple[np.ndarray, np.ndarray]] = None  # the ridge baseline (its gap is a confidence feature)
 
     @classmethod
-    def from_checkpoint(cls, state: dict[str, Any]) -> "Imaginer":
-        """Rebuild the networks from a checkpoint's state; refuse one whose weights do not fit them."""
+    def from_checkpoint(cls, state: dict[str, Any], device: Optional[torch.device] = None) -> "Imaginer":
+        """Rebuild the networks from a checkpoint's state, on `device` (None: the CPU); refuse one whose weights do
+        not fit them."""
+        device = device or torch.device("cpu")
         if state.get("latent_model") is None:
             raise CheckpointError("the checkpoint's training stopped before the latent model: finish it with --resume")
         t = checkpoint_config(state).train
@@ -53,11 +55,11 @@ class Imaginer:
         nodes = node_head_outputs(state["latent_model"])
         networks = {"autoencoder": lambda: Autoencoder(*state["image_shape"], t.latent),
                     "latent_model": lambda: latent_model_class(t.model)(inputs.features, latent_scaler.kept, t, nodes)}
-        autoencoder, latent = (loaded(make, state[key]) for key, make in networks.items())
-        members = tuple(loaded(networks["latent_model"], weights).eval() for weights in state.get("members", []))
+        autoencoder, latent = (loaded(make, state[key]).to(device) for key, make in networks.items())
+        members = tuple(loaded(networks["latent_model"], weights).to(device).eval() for weights in state.get("members", []))
         autoencoder.eval()
         latent.eval()
-        autoencoder.to(memory_format=torch.channels_last)  # faster convolutions when decoding on the CPU
+        autoencoder.to(memory_format=torch.channels_last)  # faster convolutions when decoding
         surprise = surprise_of(state, inputs.features, t.lstm_hidden)
         trust = trust_class(t.confidence).build(state.get("calibration"))
         if trust is None:

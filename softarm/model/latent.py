@@ -18,6 +18,7 @@ from torch import nn
 
 from softarm.config import TrainConfig
 from softarm.model.cells import Cell, Readout, cell_of
+from softarm.model.device import device_of
 from softarm.model.prediction import Prediction
 
 StepLoss = tuple[torch.Tensor, float, int]   # (loss to minimise, loss to report, items it covers)
@@ -87,6 +88,11 @@ class LatentModel(nn.Module):
     @property
     def history(self) -> int:
         return self.settings.history
+
+    @property
+    def device(self) -> torch.device:
+        """Where its weights are: what it reads goes there, what it answers comes back to the host."""
+        return device_of(self)
 
     @property
     def lead(self) -> int:

@@ -16,6 +16,7 @@ from typing import Iterator, Sequence
 import numpy as np
 import torch
 
+from softarm.model.device import tensor_on
 from softarm.model.latent import TrainingSeries
 
 
@@ -70,13 +71,13 @@ def steps_per_epoch(train_ends: Sequence[int], streams: int, sequence: int, warm
     return sum(scored_chunks(part, sequence) for part in partition(train_ends, streams, warmup, lead))
 
 
-def groups(series: Sequence[TrainingSeries], streams: int, warmup: int, lead: int) -> list[Group]:
-    """Every group, padded to its longest piece."""
+def groups(series: Sequence[TrainingSeries], streams: int, warmup: int, lead: int, device: torch.device) -> list[Group]:
+    """Every group, padded to its longest piece, its tensors on `device`."""
     ends = [s.train_end for s in series]
-    return [_group(series, part, lead) for part in partition(ends, streams, warmup, lead)]
+    return [_group(series, part, lead, device) for part in partition(ends, streams, warmup, lead)]
 
 
-def _group(series: Sequence[TrainingSeries], part: list[Piece], lead: int) -> Group:
+def _group(series: Sequence[TrainingSeries], part: list[Piece], lead: int, device: torch.device) -> Group:
     length = max(p.end - p.start for p in part)
     first = series[part[0].recording]
     samples = np.zeros((len(part), length, first.inputs.shape[1]), np.float32)
@@ -89,4 +90,4 @@ def _group(series: Sequence[TrainingSeries], part: list[Piece], lead: int) -> Gr
         scored[g, p.scored - p.start:size] = True
         if s.seen is not None:  # a camera's gap is no target
             scored[g, :size] &= s.seen[p.start + lead:p.end + lead]
-    return Group(torch.from_numpy(samples), torch.from_numpy(targets), torch.from_numpy(scored))
+    return Group(*(tensor_on(a, device) for a in (samples, targets, scored)))

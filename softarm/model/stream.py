@@ -14,6 +14,7 @@ from torch import nn
 
 from softarm.config import TrainConfig
 from softarm.model import pieces
+from softarm.model.device import array_of, tensor_on
 from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries, detached
 from softarm.model.prediction import Prediction
 
@@ -44,11 +45,10 @@ class StreamModel(LatentModel):
     def _answer_side_by_side(self, series: np.ndarray) -> list[Prediction]:
         """(S, T, P) series of one length, each read from its first sample."""
         targets = np.arange(self.first_frame, series.shape[1])
-        latents, log_error, _ = self(torch.from_numpy(series))
+        latents, log_error, _ = self(tensor_on(series, self.device))
         samples = targets - self.lead
-        latents, log_error = latents.float(), log_error.float()  # a bf16 pass (training's validation) too
-        return [Prediction(targets, latents[s, samples].numpy(), log_error[s, samples].numpy())
-                for s in range(len(series))]
+        latents, log_error = array_of(latents.float()), array_of(log_error.float())  # a bf16 pass (validation) too
+        return [Prediction(targets, latents[s, samples], log_error[s, samples]) for s in range(len(series))]
 
     def online(self) -> OnlineReader:
         return StreamReader(self)
@@ -58,7 +58,7 @@ class StreamModel(LatentModel):
 
     @torch.inference_mode()
     def states(self, series: np.ndarray) -> np.ndarray:
-        return self.rnn(torch.from_numpy(series[None]))[0][0].double().numpy()
+        return array_of(self.rnn(tensor_on(series[None], self.device))[0][0].double())
 
     @classmethod
     def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig,
@@ -69,7 +69,7 @@ class StreamModel(LatentModel):
         """Every group of pieces in a shuffled order, each read chunk by chunk from a fresh state that carries
         over (detached) from chunk to chunk."""
         t = self.settings
-        every = pieces.groups(series, t.streams, t.sequence, self.lead)
+        every = pieces.groups(series, t.streams, t.sequence, self.lead, self.device)  # on the device once
 
         def epoch(number: int) -> Iterator[Step]:
             for g in order(len(every), number).tolist():

@@ -16,6 +16,7 @@ import numpy as np
 from softarm.config import Config, override
 from softarm.model.baselines import Baselines
 from softarm.model.checkpoint import checkpoint_config, load_checkpoint
+from softarm.model.device import torch_device
 from softarm.model.fits import check_fits, recording_shape
 from softarm.model.imaginer import Imaginer
 from softarm.record.reader import Recording, read_model, read_recording
@@ -31,11 +32,12 @@ class Reading:
 
 
 class TrainedModel:
-    def __init__(self, path: Union[str, Path]):
+    def __init__(self, path: Union[str, Path], device: str = "cpu"):
+        """The checkpoint at `path`, its networks on `device` (auto | cpu | cuda: `softarm.model.device`)."""
         self.path = Path(path)
         self.state = load_checkpoint(self.path)
         self.config = checkpoint_config(self.state)
-        self.imaginer = Imaginer.from_checkpoint(self.state)
+        self.imaginer = Imaginer.from_checkpoint(self.state, torch_device(device))
 
     @cached_property
     def baselines(self) -> Baselines:

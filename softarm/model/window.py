@@ -11,6 +11,7 @@ import torch
 
 from softarm.config import TrainConfig
 from softarm.model.autoencoder import in_batches
+from softarm.model.device import array_of, tensor_on
 from softarm.model.latent import LatentModel, OnlineReader, Order, Step, TrainingSeries
 from softarm.model.prediction import Prediction
 from softarm.model.windows import input_windows, window_count
@@ -38,14 +39,14 @@ class WindowLSTM(LatentModel):
     @torch.inference_mode()
     def answer_windows(self, windows: np.ndarray, targets: np.ndarray) -> Prediction:
         """The answers for normalised windows (M, history, P) and the frames they imagine."""
-        latents, log_error = in_batches(self, torch.from_numpy(windows))
-        return Prediction(targets, latents.float().numpy(), log_error.float().numpy())
+        latents, log_error = in_batches(self, tensor_on(windows, self.device))
+        return Prediction(targets, array_of(latents.float()), array_of(log_error.float()))
 
     def online(self) -> OnlineReader:
         return WindowReader(self)
 
     def latents_at(self, series: torch.Tensor, samples: torch.Tensor) -> torch.Tensor:
-        windows = series[samples[:, None] - self.history + 1 + torch.arange(self.history)]
+        windows = series[samples[:, None] - self.history + 1 + torch.arange(self.history, device=series.device)]
         return self(windows)[0]
 
     @torch.inference_mode()
@@ -54,7 +55,7 @@ class WindowLSTM(LatentModel):
         out = np.full((len(series), self.settings.lstm_hidden), np.nan)
         windows, _ = input_windows(series, self.history, 0)
         last = lambda w: self.rnn(w)[0][:, -1]  # noqa: E731
-        out[self.history - 1:] = in_batches(last, torch.from_numpy(windows)).double().numpy()
+        out[self.history - 1:] = array_of(in_batches(last, tensor_on(windows, self.device)).double())
         return out
 
     @classmethod
@@ -70,10 +71,11 @@ class WindowLSTM(LatentModel):
         """Shuffled batches of (window, latent of the frame it imagines) pairs of every training segment."""
         pairs = [input_windows(s.inputs, self.history, self.lead, 0, s.train_end) for s in series]
         pairs = [(w, k) if s.seen is None else (w[s.seen[k]], k[s.seen[k]]) for s, (w, k) in zip(series, pairs)]
-        x = torch.from_numpy(np.concatenate([w for w, _ in pairs]))
-        y = torch.from_numpy(np.concatenate([s.latents[k] for s, (_, k) in zip(series, pairs)]))
+        x = tensor_on(np.concatenate([w for w, _ in pairs]), self.device)  # on the device once, for every epoch
+        y = tensor_on(np.concatenate([s.latents[k] for s, (_, k) in zip(series, pairs)]), self.device)
 
         def step(index: torch.Tensor) -> tuple[torch.Tensor, float, int]:
+            index = index.to(x.device)
             states, _ = self.rnn(x[index])
             return self.trained_loss(states[:, -1], y[index])
 

@@ -10,10 +10,11 @@ import json
 import logging
 import os
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Iterator, Optional, Union
 
+from softarm.config.keys import DEVICES
 from softarm.errors import ConfigError, OutputError, SoftarmError
 from softarm.files import check_outputs, claimed, made_folders
 from softarm.interrupt import stop_on_signal
@@ -41,13 +42,17 @@ class StudyResult:
 
 def run_study(study: Union[PathLike, Study], out: PathLike, scale: Scale = FULL, address: Optional[str] = None,
               trials: Optional[int] = None, force: bool = False,
-              progress: Optional[StageProgress] = None) -> StudyResult:
+              progress: Optional[StageProgress] = None, device: str = "auto") -> StudyResult:
     """Run a study (a built-in's name, a TOML file or a Study) into the folder `out`; see softarm.study.
 
     `scale` is FULL or QUICK (softarm.study.scale); `trials` keeps the first N trials of the plan; `force`
     forgets the trials recorded in `out` and runs every one again. `progress(stage, done, total)` is
-    called with stage "corpus", "suite" (building them) and "trials".
+    called with stage "corpus", "suite" (building them) and "trials". `device` (auto | cpu | cuda) is where
+    the trials train and score: on "cuda", or on "auto" where the Ray cluster has GPUs, each trial asks Ray
+    for one GPU.
     """
+    if device not in DEVICES:
+        raise ConfigError(f"--device {device!r}: give one of {list(DEVICES)}")
     plan = study if isinstance(study, Study) else load_study(study)
     planned = plan.quick_trials() if scale.quick_trials else plan.trials
     if trials is not None:
@@ -61,11 +66,11 @@ def run_study(study: Union[PathLike, Study], out: PathLike, scale: Scale = FULL,
     with made_folders([folder / LEDGER]), claimed([folder / LEDGER]):
         if force:
             (folder / LEDGER).unlink(missing_ok=True)
-        return run_planned(plan, planned, folder, scale, address, force, progress)
+        return run_planned(plan, planned, folder, scale, address, force, progress, device)
 
 
 def run_planned(plan: Study, planned: list, folder: Path, scale: Scale, address: Optional[str], force: bool,
-                progress: Optional[StageProgress]) -> StudyResult:
+                progress: Optional[StageProgress], device: str = "auto") -> StudyResult:
     """The trials of a checked plan in a held folder: the shared data first, then every trial not yet recorded."""
     keys = {t.name: trial_key(t, scale) for t in planned}
     recorded = latest(read_records(folder))
@@ -85,7 +90,7 @@ def run_planned(plan: Study, planned: list, folder: Path, scale: Scale, address:
     if jobs:
         (folder / "trials").mkdir(exist_ok=True)
         notify("trials", len(planned) - len(jobs), len(planned))
-        for record in run_jobs(jobs, address):
+        for record in run_jobs(jobs, address, device):
             if record.status == "interrupted":
                 interrupted = True
                 continue
@@ -115,12 +120,13 @@ def check_folder(folder: Path, plan: Study, scale: Scale, force: bool, inputs: l
                               f"--out, or pass --force to run the {scale.name} study {plan.name!r} there afresh")
 
 
-def run_jobs(jobs: list[TrialJob], address: Optional[str]) -> Iterator[TrialRecord]:
-    """Every job's record as it finishes, each job a Ray task; Ctrl-C cancels the tasks not finished and
-    yields each of them as interrupted."""
+def run_jobs(jobs: list[TrialJob], address: Optional[str], device: str = "auto") -> Iterator[TrialRecord]:
+    """Every job's record as it finishes, each job a Ray task (with one GPU where the trials run on one);
+    Ctrl-C cancels the tasks not finished and yields each of them as interrupted."""
     with stop_on_signal() as caught, ray_session(address) as ray:
-        task = ray.remote(num_cpus=TRIAL_CPUS, max_retries=0)(run_trial)
-        pending = {task.remote(job): job for job in jobs}
+        on = trial_device(ray, device)
+        task = ray.remote(num_cpus=TRIAL_CPUS, num_gpus=1 if on == "cuda" else 0, max_retries=0)(run_trial)
+        pending = {task.remote(replace(job, device=on)): job for job in jobs}
         while pending and not caught:
             ready, _ = ray.wait(list(pending), num_returns=1, timeout=0.2)
             for ref in ready:
@@ -136,6 +142,14 @@ def _result(ray: Any, ref: Any, job: TrialJob) -> TrialRecord:
         return ray.get(ref)
     except ray.exceptions.RayError as e:
         return trial_record(job, "failed", 0.0, error=one_line(f"{type(e).__name__}: {e}"))
+
+
+def trial_device(ray: Any, device: str) -> str:
+    """Where the trials run: "cuda" when asked or, for "auto", when the Ray cluster has a GPU; else "cpu"."""
+    gpus = ray.cluster_resources().get("GPU", 0)
+    if device == "cuda" and gpus < 1:
+        raise SoftarmError("--device cuda: the Ray cluster has no GPU; use --device cpu or auto")
+    return "cuda" if device == "cuda" or (device == "auto" and gpus >= 1) else "cpu"
 
 
 @contextmanager

@@ -30,6 +30,7 @@ class TrialJob:
     corpus: str                 # absolute paths, the same on every node
     suite: str
     checkpoint: str
+    device: str = "cpu"         # where it trains and scores (softarm.model.device); a GPU task's is "cuda"
 
 
 def run_trial(job: TrialJob) -> TrialRecord:
@@ -41,11 +42,11 @@ def run_trial(job: TrialJob) -> TrialRecord:
     start = time.perf_counter()
     with cpu_share(TRIAL_CPUS), stop_on_signal() as caught:
         try:
-            trained = train([job.corpus], load_config(overrides=job.overrides), out=job.checkpoint, force=True,
-                            stop=lambda: bool(caught))
+            config = load_config(overrides={**job.overrides, "train.device": job.device})
+            trained = train([job.corpus], config, out=job.checkpoint, force=True, stop=lambda: bool(caught))
             if not trained.complete or caught:
                 return trial_record(job, "interrupted", time.perf_counter() - start)
-            evaluation = evaluate(job.checkpoint, job.suite)
+            evaluation = evaluate(job.checkpoint, job.suite, device=job.device)
         except SoftarmError as e:
             return trial_record(job, "failed", time.perf_counter() - start, error=one_line(str(e)))
         except Exception as e:  # a trial that breaks must not take the study down: its record says why

@@ -25,7 +25,8 @@ Progress = Callable[[int, int], None]
 
 
 def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
-                   sensor_noise: Optional[dict[str, Any]] = None, progress: Optional[Progress] = None) -> dict[str, Any]:
+                   sensor_noise: Optional[dict[str, Any]] = None, progress: Optional[Progress] = None,
+                   device: str = "auto") -> dict[str, Any]:
     """The evaluation document: {"suite", "checkpoint", "families": {name: scores, ...}, "mean": scores}.
 
     Each level is read with the imperfections the suite gives it, over those the checkpoint was trained
@@ -34,7 +35,7 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
     from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
 
     suite = read_suite(folder)
-    model = TrainedModel(checkpoint)
+    model = TrainedModel(checkpoint, device)
     scorer = CaseScorer(model)
     per_family: dict[str, dict[str, list[dict[str, np.ndarray]]]] = {f: {} for f in suite.families}
     trust: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}

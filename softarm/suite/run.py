@@ -13,16 +13,17 @@ PathLike = Union[str, Path]
 
 def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike] = None,
              png: Optional[PathLike] = None, sensor_noise: Optional[dict[str, Any]] = None, force: bool = False,
-             progress: Optional[Progress] = None, trust_png: Optional[PathLike] = None) -> dict[str, Any]:
-    """Score `checkpoint` on every family of the suite in `suite` (see softarm.suite.evaluate); write the
-    document as JSON, the bars as PNG and the confidences' sparsification curves as PNG where asked. Outputs
-    are checked before any work."""
+             progress: Optional[Progress] = None, trust_png: Optional[PathLike] = None,
+             device: str = "auto") -> dict[str, Any]:
+    """Score `checkpoint` on every family of the suite in `suite` (see softarm.suite.evaluate), its networks on
+    `device`; write the document as JSON, the bars as PNG and the confidences' sparsification curves as PNG where
+    asked. Outputs are checked before any work."""
     outputs = [Path(p) for p in (json_path, png, trust_png) if p is not None]
     cases = read_suite(suite).cases  # a missing or damaged suite is refused before any work
     check_outputs(outputs, force, inputs=[checkpoint, Path(suite) / MANIFEST, *(case.path for case in cases)])
     input_file(checkpoint, "checkpoint", CheckpointError)  # before torch loads
     with made_folders(outputs), claimed(outputs):
-        evaluation = evaluate_suite(checkpoint, suite, sensor_noise=sensor_noise, progress=progress)
+        evaluation = evaluate_suite(checkpoint, suite, sensor_noise=sensor_noise, progress=progress, device=device)
         if json_path is not None:
             write_json(json_path, evaluation)
         if png is not None:

@@ -21,7 +21,7 @@ def state(recordings, tmp_path):
 def timed(monkeypatch, ae: dict[str, float], latent: dict[str, float]) -> list[str]:
     """Step times fixed per precision; the precisions asked for, in order."""
     asked: list[str] = []
-    monkeypatch.setattr(step_times, "cpu_has_bf16", lambda: True)
+    monkeypatch.setattr(step_times, "has_bf16", lambda device: True)
     monkeypatch.setattr(step_times, "autoencoder_steps", lambda state, precisions: asked.extend(precisions) or ae)
     monkeypatch.setattr(step_times, "latent_steps", lambda state, precisions: latent)
     return asked
@@ -40,7 +40,7 @@ def test_bf16_is_chosen_only_where_it_speeds_up_both_networks_beyond_the_margin(
 
 def test_without_native_bf16_nothing_is_timed(state, monkeypatch):
     asked = timed(monkeypatch, {"fp32": 1.0, "bf16": 0.01}, {"fp32": 1.0, "bf16": 0.01})
-    monkeypatch.setattr(step_times, "cpu_has_bf16", lambda: False)
+    monkeypatch.setattr(step_times, "has_bf16", lambda device: False)
     assert step_times.fastest_precision(state) == "fp32" and asked == []
 
 
