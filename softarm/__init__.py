@@ -25,7 +25,7 @@ Importing softarm is cheap: Taichi, torch and rerun load when a function first n
 
 import importlib
 import os
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 # Taichi prints a banner on import; softarm's output is its own (the CLI's --quiet must mean quiet).
 os.environ.setdefault("ENABLE_TAICHI_HEADER_PRINT", "false")
@@ -54,6 +54,28 @@ _API = {
     "make_robot_log": "softarm.real.robot_log",
 }
 __all__ = list(_API)
+
+if TYPE_CHECKING:  # what editors and type checkers read: the real signatures (re-exported: `x as x`),
+    # none of the import cost at run time
+    from softarm.config import Config as Config
+    from softarm.config import load_config as load_config
+    from softarm.corpus.build import write_corpus as write_corpus
+    from softarm.demo import demo as demo
+    from softarm.errors import SoftarmError as SoftarmError
+    from softarm.imagine.run import replay as replay
+    from softarm.imagine.stream import StreamingImaginer as StreamingImaginer
+    from softarm.learn.adapt_run import adapt as adapt
+    from softarm.learn.run import train as train
+    from softarm.real.convert import import_log as import_log
+    from softarm.real.preview import preview_log as preview_log
+    from softarm.real.robot_log import make_robot_log as make_robot_log
+    from softarm.real.settings import ImportSettings as ImportSettings
+    from softarm.record.reader import read_recording as read_recording
+    from softarm.sim.run import simulate as simulate
+    from softarm.study.builtin import load_study as load_study
+    from softarm.study.run import run_study as run_study
+    from softarm.suite.build import write_suite as write_suite
+    from softarm.suite.run import evaluate as evaluate
 
 
 def __getattr__(name: str) -> Any:

@@ -9,12 +9,14 @@ import resource
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Optional
 
 import psutil
 
 from softarm.config import Config
 from softarm.errors import ConfigError
 from softarm.record.process import writer_processes
+from softarm.sim.capacity import DEVICE_HEADROOM
 
 MAX_FRAMES = 10**9           # frames per arm: 116 days at the default 100 Hz; more is a typo, not a study
 WRITER_BYTES_PER_ARM = 4 * 2**20   # a writer's chunk in progress, its joined copy and its compressed copy
@@ -31,12 +33,18 @@ BLOCK_ARM_FRAMES = 6400     # arm-frames per block: the writers' work left after
 MIN_BLOCK_FRAMES = 50
 
 
-def block_frames_for(config: Config) -> int:
+def block_frames_for(config: Config, device_bytes: Optional[int] = None) -> int:
     """Frames per kernel launch: about BLOCK_ARM_FRAMES arm-frames (one arm: MAX_BLOCK_FRAMES), never more than
-    fit BLOCK_BYTES for the whole batch. Smaller blocks for big batches keep the writers close behind."""
-    per_frame = config.run.arms * (config.body.rows * config.body.columns * 2 * 8 + config.camera.height * config.camera.width)
+    fit BLOCK_BYTES for the whole batch, nor, on a GPU with `device_bytes` free, what fits DEVICE_HEADROOM of it
+    beside the state. Smaller blocks for big batches keep the writers close behind."""
+    nodes, pixels = config.body.rows * config.body.columns, config.camera.height * config.camera.width
+    per_frame = config.run.arms * (nodes * 2 * 8 + pixels)
     target = min(MAX_BLOCK_FRAMES, max(MIN_BLOCK_FRAMES, BLOCK_ARM_FRAMES // config.run.arms))
-    return max(1, min(target, config.n_frames, BLOCK_BYTES // per_frame))
+    frames = min(target, config.n_frames, BLOCK_BYTES // per_frame)
+    if device_bytes is not None:  # the state (two buffers of positions and velocities) stays; the rest per frame
+        device_frame = config.run.arms * (nodes * 2 * 8 + pixels + config.camera.height * 8)
+        frames = min(frames, int((device_bytes * DEVICE_HEADROOM - config.run.arms * nodes * 64) // device_frame))
+    return max(1, frames)
 
 
 @dataclass(frozen=True)

@@ -1,15 +1,15 @@
 """Taichi simulator: many arms stepped together by semi-implicit Euler (docs/model.md, Forces, Integration).
 
-One kernel launch advances every arm a block of frames. The outer loop runs over groups of arms in parallel;
-a group's substeps are a tight serial loop, because ~160 springs are too few to split across threads on a CPU,
-and within it the group's arms (lanes) are stepped side by side, which the compiler vectorises
-(sim/forces.py; batches without disturbances or muscles, see Simulator._place_state). Fields are indexed
-[arm, node], the batch dimension first; in memory a group's arms lie next to each other for every node and
-coordinate.
+One kernel launch advances every arm a block of frames, in one of two memory layouts (sim/layout.py). On the CPU
+("lanes"), the outer loop runs over groups of arms in parallel; a group's substeps are a tight serial loop, because
+~160 springs are too few to split across threads on a CPU, and within it the group's arms are stepped side by side,
+which the compiler vectorises (sim/forces.py; batches without disturbances or muscles). On a GPU ("gathered"), every
+arm is a thread, the arms lie innermost in memory so that a warp's loads coalesce, and each node gathers its springs'
+forces from two state buffers (sim/gathered.py). Both give the same numbers; fields are indexed [arm, node].
 """
 
 from functools import partial
-from typing import Optional, Sequence
+from typing import Optional, Sequence, Union
 
 import numpy as np
 import taichi as ti
@@ -20,12 +20,14 @@ from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import KIND_CODES, Drive
 from softarm.arm.muscles import Muscles
 from softarm.config import Config
-from softarm.errors import SimulationError
+from softarm.sim.capacity import check_physics, raise_on_blowup
 from softarm.sim.exchange import read_scalars, read_states, write_scalars
 from softarm.sim.forces import accumulate_forces, first_far_node, substep
+from softarm.sim.gathered import advance_gathered
+from softarm.sim.layout import chosen_layout, place_incidence, place_state
 from softarm.sim.load import load
 from softarm.sim.muscle_fields import MuscleFields, relax
-from softarm.sim.runtime import device_array, host, lane_layout, task_layout, upload
+from softarm.sim.runtime import device_array, host, on_cpu, task_layout, upload
 from softarm.sim.world import WorldFields, pack
 
 f64nd = ti.types.ndarray(dtype=ti.f64, ndim=4)
@@ -47,8 +49,10 @@ class Simulator:
 
     def __init__(self, body: Body, drives: Sequence[Drive], frame_dt: float, substeps: int,
                  blowup_distance: float, positions: np.ndarray, velocities: np.ndarray, block_frames: int = 100,
-                 disturbances: Sequence[Sequence[Disturbance]] = (), muscles: Optional[Muscles] = None):
+                 disturbances: Sequence[Sequence[Disturbance]] = (), muscles: Optional[Muscles] = None,
+                 layout: Optional[str] = None):
         arms, n, springs = len(drives), body.n_nodes, len(body.springs)
+        check_physics(arms, n, block_frames, on_gpu=not on_cpu())
         slots = pack(disturbances, arms, n, springs)
         self.disturbed = slots.any  # a batch without any compiles the kernel without their code
         if len({(d.kind, d.direction, len(d.frequencies)) for d in drives}) != 1:
@@ -56,7 +60,8 @@ class Simulator:
         self.kind = KIND_CODES[drives[0].kind]
         self.body, self.frame_dt, self.substeps, self.blowup_distance = body, frame_dt, substeps, blowup_distance
         self.arms, self.block_frames, self.frame = arms, block_frames, 0
-        self.x, self.v, self.force, self.rest = (ti.Vector.field(2, ti.f64) for _ in range(4))
+        self.layout = chosen_layout(layout)  # lanes on the CPU, gathered on a GPU (sim/layout.py)
+        self.rest = ti.Vector.field(2, ti.f64)
         self.springs, self.spring_params = ti.Vector.field(2, ti.i32), ti.Vector.field(3, ti.f64)
         self.mass, self.amplitude, self.time_offset = (ti.field(ti.f64) for _ in range(3))
         self.freqs, self.amps, self.phases = (ti.field(ti.f64) for _ in range(3))
@@ -64,7 +69,8 @@ class Simulator:
         self.free = ti.field(ti.i32)
         self.muscles = muscles if muscles is not None and muscles.count else None
         builder = ti.FieldsBuilder()
-        groups = self._place_state(builder, arms, n, plain=not self.disturbed and self.muscles is None)
+        groups = place_state(self, builder, arms, n, plain=not self.disturbed and self.muscles is None)
+        incidence = place_incidence(self, builder, body.springs, n)
         builder.dense(ti.i, n).place(self.rest, self.mass, self.free)
         builder.dense(ti.i, springs).place(self.springs, self.spring_params)
         builder.dense(ti.i, arms).place(self.amplitude, self.time_offset)
@@ -80,25 +86,13 @@ class Simulator:
              f64([[d.amplitude, d.time_offset] for d in drives]),
              f64([[d.frequencies for d in drives], [d.amplitudes or np.zeros(len(d.frequencies)) for d in drives],
                   [d.phases or np.zeros(len(d.frequencies)) for d in drives]]), f64(drives[0].direction))
+        if incidence is not None:
+            self.incident_start.from_numpy(incidence[0])
+            self.incident.from_numpy(incidence[1])
         self._positions = device_array((arms, block_frames, n, 2), "float64")
         self._status = upload(np.full((arms, 2), -1, np.int32))
         self.history = host(self._positions)
         self._tasks = task_layout(groups)
-
-    def _place_state(self, builder: ti.FieldsBuilder, arms: int, n: int, plain: bool) -> int:
-        """Place the positions, velocities and forces (and a disturbed batch's inertia: every node's mass with its
-        active payloads) in one cell per group of arms and node, each coordinate of the group's arms contiguous;
-        the number of groups. Only a plain batch (no disturbances, no muscles) is stepped in lanes: the others'
-        per-arm branches do not vectorise, and their unrolled kernels took 3-6x as long to compile."""
-        self.lanes, groups = lane_layout(arms, plain)
-        self.inertia = ti.field(ti.f64) if self.disturbed else self.mass
-        node = builder.dense(ti.i, groups).dense(ti.j, n)
-        for field in (self.x, self.v, self.force):
-            for c in range(2):
-                node.dense(ti.i, self.lanes).place(field.get_scalar_field(c))
-        if self.disturbed:
-            node.dense(ti.i, self.lanes).place(self.inertia)
-        return groups
 
     def _attach(self, arms: int, n: int) -> None:
         """The muscles' fields (only with groups) and the arrays a controller reads the state through."""
@@ -108,13 +102,13 @@ class Simulator:
 
     @classmethod
     def from_config(cls, config: Config, batch: Optional[ArmBatch] = None, block_frames: int = 100,
-                    muscles: Optional[Muscles] = None) -> "Simulator":
+                    muscles: Optional[Muscles] = None, layout: Optional[str] = None) -> "Simulator":
         """The arms of `batch` (default: the config's run) started and stepped exactly as `simulate` does (with
-        `muscles`, also commanded through `command`)."""
+        `muscles`, also commanded through `command`; `layout` forces one, see sim/layout.py)."""
         batch = batch if batch is not None else arm_batch(config)
         integration = config.integration
         return cls(batch.body, batch.drives, integration.frame_dt, integration.substeps, integration.blowup_distance,
-                   batch.positions, batch.velocities, block_frames, batch.disturbances, muscles)
+                   batch.positions, batch.velocities, block_frames, batch.disturbances, muscles, layout)
 
     @ti.kernel
     def _advance(self, positions: f64nd, status: i32nd, first_frame: ti.i32, n_frames: ti.i32, substeps: ti.i32,
@@ -172,17 +166,40 @@ class Simulator:
     def step_block(self, n_frames: int) -> None:
         """Fill `history[:, :n_frames]` with the next n_frames frames and step past them (history is reused:
         read it before the next call)."""
+        self.launch(n_frames)
+        self.collect()
+
+    def launch(self, n_frames: int) -> None:
+        """Start stepping the next n_frames frames into `device_positions`; on a GPU the kernel runs while Python
+        goes on, until `collect` (or anything that reads the device) waits for it."""
         if not 1 <= n_frames <= self.block_frames:
             raise ValueError(f"a block holds 1..{self.block_frames} frames, got {n_frames}")
         gx, gy = self.body.gravity
         h = self.frame_dt / self.substeps
         decay = float(np.exp(-h / self.muscles.time_constant)) if self.muscles is not None else 0.0
-        self._advance(self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt,
-                      self.blowup_distance, float(gx), float(gy), self.kind, *self._tasks, decay, self.lanes,
-                      self.disturbed, self.muscles is not None)
+        if self.layout == "gathered":
+            advance_gathered(self, self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt,
+                             self.blowup_distance, float(gx), float(gy), self.kind, decay, self.disturbed,
+                             self.muscles is not None)
+        else:
+            self._advance(self._positions, self._status, self.frame, n_frames, self.substeps, self.frame_dt,
+                          self.blowup_distance, float(gx), float(gy), self.kind, *self._tasks, decay, self.lanes,
+                          self.disturbed, self.muscles is not None)
+        self._launched = n_frames
+
+    def collect(self) -> np.ndarray:
+        """Wait for the launched block, make its frames `history` (on a GPU: copied to the host) and step past
+        them; a blow-up raises SimulationError."""
         self.history = host(self._positions)
-        self.frame += n_frames
-        self._raise_on_blowup()
+        self.frame += self._launched
+        raise_on_blowup(host(self._status), self.arms, self.frame_dt, self.blowup_distance, self.substeps)
+        return self.history
+
+    @property
+    def device_positions(self) -> Union[np.ndarray, ti.Ndarray]:
+        """The launched block's positions where the kernel writes them: the rasteriser reads them there, so a GPU's
+        frames are drawn without a round trip through the host."""
+        return self._positions
 
     def advance(self, n_frames: int) -> np.ndarray:
         """(arms, n_frames, N, 2) positions at the next n_frames frame times, float64."""
@@ -231,16 +248,3 @@ class Simulator:
         for owned in (self.world, self.actuators):
             if owned is not None:
                 owned.destroy()
-
-    def _raise_on_blowup(self) -> None:
-        status = host(self._status)
-        bad = np.flatnonzero(status[:, 0] >= 0)
-        if len(bad) == 0:
-            return
-        arm = bad[np.argmin(status[bad, 0])]
-        frame, node = status[arm]
-        where = f" (arm {arm})" if self.arms > 1 else ""
-        raise SimulationError(
-            f"the simulation blew up at t = {frame * self.frame_dt:.6g} s{where}: node {node} went further than "
-            f"integration.blowup_distance = {self.blowup_distance} m from rest (or became NaN); "
-            f"raise integration.substeps (now {self.substeps}) or lower excitation.amplitude")

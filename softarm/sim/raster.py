@@ -13,7 +13,8 @@ import taichi as ti
 
 from softarm.arm.camera import world_to_pixel
 from softarm.config import CameraConfig
-from softarm.sim.runtime import device_array, host, task_layout, upload
+from softarm.sim.capacity import check_camera
+from softarm.sim.runtime import device_array, host, on_cpu, task_layout, upload
 
 f64nd = ti.types.ndarray(dtype=ti.f64)
 i32nd = ti.types.ndarray(dtype=ti.i32)
@@ -88,6 +89,7 @@ class Rasteriser:
     """Owns the image block of a batch on the Taichi device."""
 
     def __init__(self, camera: CameraConfig, outline: np.ndarray, arms: int, block_frames: int):
+        check_camera(arms, block_frames, camera.height, camera.width, on_gpu=not on_cpu())
         self.outline = upload(np.asarray(outline, np.int32))
         self.M = upload(world_to_pixel(camera))
         self.images = device_array((arms, block_frames, camera.height, camera.width), "uint8")

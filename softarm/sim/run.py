@@ -19,6 +19,7 @@ from softarm.record.slots import BlockShape
 from softarm.record.writer import ArmMetadata
 from softarm.sim import check_arch
 from softarm.sim.budget import block_frames_for, check_resources
+from softarm.sim.capacity import gpu_free_memory_of_driver
 
 if TYPE_CHECKING:
     from softarm.sim.physics import Simulator
@@ -98,7 +99,9 @@ def record_batch(config: Config, batch: ArmBatch, paths: list[Path], arch: str,
     from softarm.sim.runtime import init_taichi
 
     laps = Laps()
-    block_frames = block_frames_for(config)
+    # On a GPU the block also fits the device: its free memory asked of the driver (no CUDA in this process yet: the
+    # writers fork first).
+    block_frames = block_frames_for(config, gpu_free_memory_of_driver() if arch == "gpu" else None)
     # The writers fork before Taichi starts its threads: a child never inherits a lock held by one of them.
     recorder = start_recorder(config, batch, paths, block_frames)
     try:
@@ -149,15 +152,20 @@ def record_blocks(config: Config, batch: ArmBatch, sim: "Simulator", camera: "Ra
     Ctrl-C (or SIGTERM) stops at the next block boundary and closes the files with what they hold.
     """
     body, frame_dt, block_frames = batch.body, config.integration.frame_dt, sim.block_frames
-    done = 0
+    from softarm.sim import runtime  # Taichi is running by now
+
+    overlap = not runtime.on_cpu()  # a GPU's block is a host copy: the next block may run while this one is written
+    done, n = 0, min(block_frames, config.n_frames)
     with stop_on_signal() as caught:
-        while done < config.n_frames and not caught:
-            n = min(block_frames, config.n_frames - done)
-            sim.step_block(n)
-            positions = sim.history[:, :n]
-            laps.lap("physics")
-            images = camera.render(sim.history, n)
+        sim.launch(n)
+        while not caught:
+            images = camera.render(sim.device_positions, n)  # drawn where the kernel wrote the positions
             laps.lap("camera")
+            positions = sim.collect()[:, :n]
+            laps.lap("physics")
+            after = min(block_frames, config.n_frames - done - n)
+            if overlap and after:
+                sim.launch(after)
             readings = stretch(positions, body.rest, body.sensors)
             times = np.arange(done, done + n) * frame_dt
             displacements = np.stack([d.displacement(times) for d in batch.drives])
@@ -167,6 +175,11 @@ def record_blocks(config: Config, batch: ArmBatch, sim: "Simulator", camera: "Ra
             done += n
             if progress:
                 progress(done)
+            if not after:
+                break
+            n = after
+            if not overlap and not caught:
+                sim.launch(n)
         complete = not caught
         recorder.close(complete)  # inside: a Ctrl-C during the final flush must not discard the files
     laps.lap("recording (rest, after the physics)")

@@ -22,10 +22,14 @@ def modules() -> dict[str, Path]:
 
 
 def imported(path: Path, known: dict[str, Path]) -> set[str]:
-    """The modules of both packages that a file imports anywhere in it (a function's own imports included):
-    `from a.b import c` imports a.b, and a.b.c too where that is a module."""
+    """The modules of both packages that a file imports anywhere in it when it runs (a function's own imports
+    included; an `if TYPE_CHECKING:` block's, which only type checkers read, not): `from a.b import c` imports a.b,
+    and a.b.c too where that is a module."""
     names = set()
-    for node in ast.walk(ast.parse(path.read_text())):
+    tree = ast.parse(path.read_text())
+    for guarded in [n for n in ast.walk(tree) if isinstance(n, ast.If) and getattr(n.test, "id", "") == "TYPE_CHECKING"]:
+        guarded.body = []
+    for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             names.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:

@@ -42,3 +42,14 @@ def test_contributing_notes_and_the_type_marker_are_there():
     assert "## Where new things go" in (ROOT / "CONTRIBUTING.md").read_text()
     assert (ROOT / "softarm" / "py.typed").exists()
     assert "py.typed" in tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"]["softarm"]
+
+
+def test_editors_see_every_public_name_with_its_signature():
+    """`import softarm` loads its functions lazily (PEP 562); the `TYPE_CHECKING` imports give type checkers and
+    editors each public name from the module it lazily comes from."""
+    import ast
+
+    tree = ast.parse((ROOT / "softarm" / "__init__.py").read_text())
+    guarded = next(node for node in tree.body if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING")
+    seen = {alias.name: node.module for node in guarded.body for alias in node.names}
+    assert seen == softarm._API

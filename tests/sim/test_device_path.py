@@ -36,3 +36,17 @@ def test_device_array_path_equals_the_cpu_path(monkeypatch):
     assert not isinstance(dev_camera.images, np.ndarray)
     np.testing.assert_array_equal(dev_positions, cpu_positions)
     np.testing.assert_array_equal(dev_images, cpu_images)
+
+
+def test_a_recording_made_on_the_gpu_path_is_the_cpu_paths_byte_for_byte(monkeypatch, tmp_path):
+    """The whole `simulate` as on a GPU (device arrays, the gathered kernel, the next block stepped while the host
+    writes the last one, frames drawn from the device's positions) writes the CPU's files."""
+    from softarm.sim.run import simulate
+
+    config = load_config(overrides={"run.duration": 12.0, "run.arms": 3, "disturbances": [  # blocks of 500 frames
+        {"kind": "push", "start": 0.5, "end": 0.8, "force": [0.05, 0.0], "nodes": [42, 43, 44]}]})
+    simulate(config, tmp_path / "cpu.mcap")
+    monkeypatch.setattr(runtime, "on_cpu", lambda: False)
+    simulate(config, tmp_path / "gpu.mcap")
+    for arm in range(3):
+        assert (tmp_path / f"gpu_arm{arm}.mcap").read_bytes() == (tmp_path / f"cpu_arm{arm}.mcap").read_bytes()

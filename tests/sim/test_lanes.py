@@ -7,7 +7,7 @@ import taichi as ti
 
 from softarm.arm.batch import arm_batch
 from softarm.config import load_config
-from softarm.sim import physics
+from softarm.sim import layout
 from softarm.sim.physics import Simulator
 
 ARMS = 8
@@ -21,7 +21,7 @@ EXCITATIONS = {
 @pytest.fixture
 def four_lanes(monkeypatch):
     """Groups of four plain arms (one arm alone in its own), whatever the machine's thread count would choose."""
-    monkeypatch.setattr(physics, "lane_layout",
+    monkeypatch.setattr(layout, "lane_layout",
                         lambda arms, plain: (4, arms // 4) if plain and arms % 4 == 0 else (1, arms))
 
 
