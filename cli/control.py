@@ -4,7 +4,7 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from softarm_cli.console import err, out, run_or_exit, say
+from softarm_cli.console import complain, err, out, run_or_exit, say
 from softarm_cli.options import Arch, ConfigFile, Quiet
 from softarm_cli.progress import LazyProgress
 
@@ -31,7 +31,11 @@ def babble(
 
     cfg = run_or_exit(lambda: load_config(config))
     with LazyProgress(err, "babbling", episodes, "episodes", quiet=quiet, log=out) as bar:
-        paths = run_or_exit(lambda: record(folder, episodes, seconds, task, cfg, seed=seed, arch=arch,
-                                           progress=bar.update))
+        result = run_or_exit(lambda: record(folder, episodes, seconds, task, cfg, seed=seed, arch=arch,
+                                            progress=bar.update))
+    if not result.complete:
+        complain(f"interrupted: kept {len(result.paths)} episode(s) in {folder}, the last cut short "
+                 "(complete = false)" if result.paths else f"interrupted: no episode was written to {folder}")
+        raise typer.Exit(130)
     if not quiet:
-        say(f"wrote {len(paths)} episode(s) of {seconds:g} s to {folder}")
+        say(f"wrote {len(result.paths)} episode(s) of {seconds:g} s to {folder}")

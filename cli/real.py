@@ -77,12 +77,10 @@ def robot_log(
     \b
     Example: softarm robot-log recordings/seed0.mcap --out recordings/seed0_robot.mcap
     """
-    from softarm.files import check_outputs
     from softarm.real.robot_log import RobotLogSettings, make_robot_log
 
     settings = RobotLogSettings(image_format=image_format, sensor_offset=offset)
-    run_or_exit(lambda: check_outputs([out_path], force=force, inputs=[recording]))
-    made = run_or_exit(lambda: make_robot_log(recording, out_path, settings))
+    made = run_or_exit(lambda: make_robot_log(recording, out_path, settings, force=force))
     if quiet:
         return
     say(f"wrote {made.path}: {made.frames} camera frames on {made.camera_topic}, stretch on "

@@ -2,7 +2,7 @@
 off for the last two seconds, then imagine it again online, one sample at a time, as a robot's loop would.
 
     python examples/python_api.py                      # 30 s of arm, the default training (a few minutes)
-    python examples/python_api.py --seconds 8 --quick  # a smoke test: a tiny training, seconds
+    python examples/python_api.py --seconds 6 --quick  # a smoke test: a tiny training, seconds
 """
 
 import argparse
@@ -12,7 +12,7 @@ import numpy as np
 
 import softarm
 
-QUICK = {"train.epochs_ae": 3, "train.epochs_lstm": 3, "train.max_steps_ae": 60, "train.max_steps_lstm": 60,
+QUICK = {"train.epochs_ae": 2, "train.epochs_lstm": 2, "train.max_steps_ae": 20, "train.max_steps_lstm": 20,
          "train.latent": 8, "train.lstm_hidden": 32, "train.precision": "fp32"}
 
 

@@ -26,8 +26,10 @@ PathLike = Union[str, Path]
 def check_outputs(outputs: Sequence[PathLike], force: bool, inputs: Sequence[PathLike] = ()) -> None:
     """Refuse before any work, creating nothing: two outputs on one file, an output that is one of the inputs
     (the same path once resolved, or a hard link to it), an existing output (unless force), an output that is
-    a folder, or one whose folder cannot be made or written. Each name is resolved once and looked up, so a
-    batch of 256 outputs costs 256 lookups, not 32 640 pairwise comparisons (1.9 s as first written)."""
+    a folder, or one whose folder cannot be made or written. The files an output brings with it, its `.part`
+    and its lock, obey the same rule: neither may be an input, and an existing `.part` (an earlier run's
+    unfinished file, which may hold frames worth keeping) is replaced only with force. Each name is resolved
+    once and looked up, so a batch of 256 outputs costs 256 lookups, not 32 640 pairwise comparisons."""
     sources: dict[Any, Path] = {}
     for source in map(Path, inputs):
         sources.update(dict.fromkeys(identities(source), source))
@@ -37,15 +39,20 @@ def check_outputs(outputs: Sequence[PathLike], force: bool, inputs: Sequence[Pat
         other = next((earlier[k] for k in keys if k in earlier), None)
         if other is not None:
             raise OutputError(f"the outputs {other} and {path} are one file: give each its own name")
-        source = next((sources[k] for k in keys if k in sources), None)
-        if source is not None:
-            raise OutputError(f"output {path} is the input {source}: write the output elsewhere "
-                              f"(--force replaces an old output, never an input)")
+        for companion, what in ((path, "output"), (part_path(path), "unfinished file"), (lock_path(path), "lock")):
+            source = next((sources[k] for k in identities(companion) if k in sources), None)
+            if source is not None:
+                named = f"output {path}" if companion == path else f"output {path} writes its {what} {companion}, which"
+                raise OutputError(f"{named} is the input {source}: write the output elsewhere "
+                                  f"(--force replaces an old output, never an input)")
         earlier.update(dict.fromkeys(keys, path))
         if path.is_dir():
             raise OutputError(f"output {path} is a folder; give a file name")
         if path.exists() and not force:
             raise OutputError(f"output {path} already exists; pass --force to overwrite it")
+        if part_path(path).exists() and not force:
+            raise OutputError(f"{part_path(path)} holds an earlier run's unfinished {path.name} (it may keep frames "
+                              f"worth saving): move it away, or pass --force to replace it")
         check_writable_folder(path)
 
 

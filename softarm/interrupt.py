@@ -10,7 +10,14 @@ from contextlib import contextmanager
 from typing import Iterator
 
 _open: list[list[int]] = []  # the flags of the stop_on_signal blocks in force, innermost last
+_heard: list[int] = []       # every stop request any block caught in this process
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+def requested() -> bool:
+    """Whether a stop request was caught in this process: a job is winding down (the command line then ignores
+    the requests that follow it instead of cutting its cleanup short)."""
+    return bool(_heard)
 
 
 class Escalated(KeyboardInterrupt):
@@ -19,6 +26,11 @@ class Escalated(KeyboardInterrupt):
 
 class Stopped(Exception):
     """A stop request ended work that has nothing to keep yet (training while it reads its recordings)."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """A stop request ended a job; its message says what it kept on disk (the command line prints it after
+    "interrupted:" and exits 130)."""
 
 
 @contextmanager
@@ -36,6 +48,7 @@ def stop_on_signal() -> Iterator[list[int]]:
 
     def handle(signum: int, _frame: object) -> None:
         caught.append(signum)
+        _heard.append(signum)
         if len(caught) > 1:
             raise Escalated()
 

@@ -5,7 +5,9 @@ from typing import Sequence, Union
 
 import numpy as np
 from gymnasium import spaces
+from gymnasium.vector import AutoresetMode
 
+from softarm import limits
 from softarm.config import Config, load_config
 from softarm.envs.arms import Arms
 from softarm.envs.observations import OBSERVATIONS, Observation
@@ -13,6 +15,17 @@ from softarm.errors import ConfigError
 from softarm.sim.runtime import init_taichi
 
 ConfigLike = Union[Config, str, Path, None]
+ARM_BYTES = 16 * 1024  # an arm's memory in an env: its physics state, its readings, observations, its generator
+
+
+def check_vector(num_envs: object, autoreset_mode: AutoresetMode) -> None:
+    """A vector env's arms (a whole number this machine's memory holds) and autoreset mode, refused in words."""
+    most = limits.fitting(ARM_BYTES)
+    if isinstance(num_envs, bool) or not isinstance(num_envs, int) or not 1 <= num_envs <= most:
+        raise ValueError(f"num_envs = {num_envs!r}: give a whole number of arms from 1 to {most:,} (what this "
+                         f"machine's available memory holds, about {ARM_BYTES // 1024} kB an arm)")
+    if autoreset_mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
+        raise ValueError(f"autoreset_mode {autoreset_mode}: this env offers NEXT_STEP and SAME_STEP")
 
 
 def start(config: ConfigLike, task: str, arms: int, arch: str) -> Arms:
@@ -53,3 +66,13 @@ def commands(actions: object, arms: Arms, shape: tuple[int, ...]) -> np.ndarray:
         raise ValueError(f"the action holds NaN or infinite commands ({a.ravel()[~np.isfinite(a.ravel())][0]}); "
                          "commands must be finite, in [0, 1]")
     return np.clip(a, 0.0, 1.0).reshape(arms.arms, -1)
+
+
+def reset_mask(mask: object, arms: int) -> np.ndarray:
+    """`options["reset_mask"]` as the boolean array (arms,) it must be: anything else (indices, a scalar, another
+    length, NaN) is refused, where reading it as booleans would reset other arms than meant."""
+    a = np.asarray(mask)
+    if a.dtype != np.bool_ or a.shape != (arms,):
+        raise ValueError(f"reset_mask must be a boolean array of shape ({arms},), one entry per arm, True to reset it; "
+                         f"got {a.dtype} of shape {a.shape}")
+    return a

@@ -4,6 +4,7 @@ from typing import Any, Optional, Sequence
 
 import gymnasium
 import numpy as np
+from gymnasium.error import ClosedEnvironmentError
 from gymnasium.utils import seeding
 
 from softarm.envs.common import ConfigLike, action_space, commands, observation_space, observations, observe, start
@@ -29,6 +30,7 @@ class SoftArmEnv(gymnasium.Env):
         self._closed = False
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None):
+        self._check_open("reset")
         super().reset(seed=seed)
         if seed is None and self._np_random is None:
             self._np_random, self._np_random_seed = seeding.np_random()
@@ -37,16 +39,22 @@ class SoftArmEnv(gymnasium.Env):
         return self._observation(), self._info()
 
     def step(self, action):
+        self._check_open("step")
         reward, terminated, truncated = self.arms.step(commands(action, self.arms, self.action_space.shape), ONE)
         return self._observation(), float(reward[0]), bool(terminated[0]), bool(truncated[0]), self._info()
 
     def render(self) -> Optional[np.ndarray]:
+        self._check_open("render")
         return colour_view(self.arms, 0) if self.render_mode == "rgb_array" else None
 
     def close(self) -> None:
         if not self._closed:
             self.arms.close()
             self._closed = True
+
+    def _check_open(self, call: str) -> None:
+        if self._closed:
+            raise ClosedEnvironmentError(f"{call}() on a closed environment: its arm is freed; make a new one")
 
     def _observation(self) -> dict[str, np.ndarray]:
         return {key: value[0] for key, value in observe(self.arms, self.observed).items()}

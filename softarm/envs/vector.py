@@ -11,11 +11,22 @@ the mask.
 from typing import Any, Optional, Sequence, Union
 
 import numpy as np
+from gymnasium.error import ClosedEnvironmentError
 from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from softarm.envs.common import ConfigLike, action_space, commands, observation_space, observations, observe, start
+from softarm.envs.common import (
+    ConfigLike,
+    action_space,
+    check_vector,
+    commands,
+    observation_space,
+    observations,
+    observe,
+    reset_mask,
+    start,
+)
 from softarm.envs.observations import DEFAULT
 from softarm.envs.render import colour_view
 
@@ -26,10 +37,7 @@ class SoftArmVectorEnv(VectorEnv):
     def __init__(self, num_envs: int = 1, task: str = "reach", config: ConfigLike = None,
                  observe: Sequence[str] = DEFAULT, render_mode: Optional[str] = None, arch: str = "cpu",
                  autoreset_mode: AutoresetMode = AutoresetMode.NEXT_STEP):
-        if num_envs < 1:
-            raise ValueError(f"num_envs = {num_envs}: a vector env needs at least one arm")
-        if autoreset_mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP):
-            raise ValueError(f"autoreset_mode {autoreset_mode}: this env offers NEXT_STEP and SAME_STEP")
+        check_vector(num_envs, autoreset_mode)
         self.num_envs = num_envs
         self.arms = start(config, task, num_envs, arch)
         self.observed = observations(observe)
@@ -44,6 +52,7 @@ class SoftArmVectorEnv(VectorEnv):
 
     def reset(self, *, seed: Union[int, Sequence[Optional[int]], None] = None,
               options: Optional[dict[str, Any]] = None):
+        self._check_open("reset")
         everyone = np.arange(self.num_envs)
         if seed is not None:
             seeds = [seed + a for a in range(self.num_envs)] if isinstance(seed, int) else list(seed)
@@ -52,12 +61,13 @@ class SoftArmVectorEnv(VectorEnv):
             for a, s in zip(everyone, seeds):
                 self.arms.rngs[a] = seeding.np_random(s)[0]
         mask = (options or {}).get("reset_mask")
-        arms = everyone if mask is None else np.flatnonzero(np.asarray(mask, bool))
+        arms = everyone if mask is None else np.flatnonzero(reset_mask(mask, self.num_envs))
         self.arms.reset(arms)
         self._ended[arms] = False
         return observe(self.arms, self.observed), self._info()
 
     def step(self, actions):
+        self._check_open("step")
         u = commands(actions, self.arms, self.action_space.shape)
         if self.metadata["autoreset_mode"] == AutoresetMode.SAME_STEP:
             return self._step_and_reset(u)
@@ -81,9 +91,14 @@ class SoftArmVectorEnv(VectorEnv):
         return observe(self.arms, self.observed), reward, terminated, truncated, info
 
     def render(self) -> Optional[tuple[np.ndarray, ...]]:
+        self._check_open("render")
         if self.render_mode != "rgb_array":
             return None
         return tuple(colour_view(self.arms, a) for a in range(self.num_envs))
+
+    def _check_open(self, call: str) -> None:
+        if self._closed:
+            raise ClosedEnvironmentError(f"{call}() on a closed environment: its arms are freed; make a new one")
 
     def close_extras(self, **kwargs: Any) -> None:
         if not self._closed:

@@ -53,13 +53,19 @@ class StreamingImaginer:
         """Take the next sample: every input channel's raw readings side by side in the checkpoint's order
         (`sample`), or each channel by its name (`step(stretch=[...], drive=0.002)`, the stretch in m and the
         drive's displacement in m). Return the frame it lets the model imagine, or None until `history` samples
-        have been seen (the first frame a batch replay imagines)."""
+        have been seen (the first frame a batch replay imagines). A sample holding NaN or an infinity (a sensor that
+        dropped out) is refused with a ValueError before it touches anything: the streamer stays as it was, so the
+        caller may give the next good sample (or the last good one again), or `reset()` after a long gap."""
         imaginer = self.imaginer
         raw = np.asarray(sample if sample is not None else self.assemble(channels), np.float64)
         if raw.shape != (imaginer.inputs.features,):
             raise ValueError(f"a sample holds {imaginer.inputs.features} readings "
                              f"({', '.join(f'{c.name}: {w}' for c, w in zip(imaginer.inputs.channels, imaginer.inputs.widths))}), "
                              f"got shape {raw.shape}")
+        if not np.isfinite(raw).all():
+            bad = int(np.flatnonzero(~np.isfinite(raw))[0])
+            raise ValueError(f"reading {bad} of the sample is {raw[bad]}: readings must be finite (this sample was not "
+                             "taken; give the next one, or reset() after a gap)")
         self.samples += 1
         exact = imaginer.inputs.normalise(raw)  # float64: the ridge baseline's window, as a batch replay reads it
         normalised = exact.astype(np.float32)  # `imaginer.normalised`: what the networks read

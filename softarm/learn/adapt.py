@@ -14,10 +14,12 @@ once the new body is learned. The autoencoder and the scalers stay as they were.
 
 import copy
 from dataclasses import dataclass, replace
+from typing import Callable
 
 import numpy as np
 import torch
 
+from softarm.interrupt import Stopped
 from softarm.model.autoencoder import encode_frames
 from softarm.model.device import tensor_on
 from softarm.model.imaginer import Imaginer
@@ -41,22 +43,24 @@ class Window:
     frames: np.ndarray
 
 
-def adapt_models(imaginer: Imaginer, window: Window) -> Imaginer:
-    """A new imaginer whose latent models (and surprise model) fit the window's frames; the given one is unchanged."""
+def adapt_models(imaginer: Imaginer, window: Window, stop: Callable[[], bool] = lambda: False) -> Imaginer:
+    """A new imaginer whose latent models (and surprise model) fit the window's frames; the given one is unchanged.
+    `stop()` is asked between fine-tuning steps: True raises Stopped."""
     lead = imaginer.latent.lead
     frames = np.arange(max(window.start, imaginer.latent.first_frame), window.end)
     codes = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, window.frames[frames]))
     read = window.inputs[:window.end].astype(np.float32)
     device = imaginer.latent.device  # the fine-tuning runs where the networks are
     models = [fine_tuned(model, tensor_on(read, device), tensor_on(frames - lead, device),
-                         tensor_on(codes.astype(np.float32), device)) for model in (imaginer.latent, *imaginer.members)]
+                         tensor_on(codes.astype(np.float32), device), stop) for model in (imaginer.latent, *imaginer.members)]
     surprise = imaginer.surprise
     if surprise is not None:
         surprise = adapted_surprise(surprise, models[0].states(read), read.astype(np.float64), window.start, SHRINK)
     return replace(imaginer, latent=models[0], members=tuple(models[1:]), surprise=surprise)
 
 
-def fine_tuned(model: LatentModel, series: torch.Tensor, samples: torch.Tensor, codes: torch.Tensor) -> LatentModel:
+def fine_tuned(model: LatentModel, series: torch.Tensor, samples: torch.Tensor, codes: torch.Tensor,
+               stop: Callable[[], bool] = lambda: False) -> LatentModel:
     """A copy of `model` after STEPS Adam steps on |latents_at(series, samples) - codes|^2 (mean) + PULL * |w - w0|^2
     over its parameters but the FROZEN ones."""
     tuned = copy.deepcopy(model)
@@ -65,6 +69,8 @@ def fine_tuned(model: LatentModel, series: torch.Tensor, samples: torch.Tensor, 
     optimiser = torch.optim.Adam(weights.values(), lr=LEARNING_RATE)
     tuned.train()
     for _ in range(STEPS):
+        if stop():
+            raise Stopped()
         loss = ((tuned.latents_at(series, samples) - codes) ** 2).mean()
         loss = loss + PULL * sum(((p - start[name]) ** 2).sum() for name, p in weights.items())
         optimiser.zero_grad()

@@ -9,12 +9,13 @@ its body changed and looks. Torch loads when `adapt()` first runs.
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional, Union
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
 from softarm.errors import CheckpointError, ConfigError, RecordingError
 from softarm.files import check_outputs, claimed, input_file, made_folders
+from softarm.interrupt import Escalated, Interrupted, Stopped, stop_on_signal
 
 PathLike = Union[str, Path]
 
@@ -36,12 +37,24 @@ def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLi
     check_outputs([Path(out)], force, inputs=[checkpoint, recording])
     input_file(checkpoint, "checkpoint", CheckpointError)  # missing inputs are refused before torch loads
     read_model(recording)
+    from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
+
+    try:
+        with stop_on_signal() as caught:
+            return _adapt(TrainedModel(checkpoint, device), recording, seconds, Path(out), start, lambda: bool(caught))
+    except Stopped:  # the checkpoint is written whole at the end, so nothing was
+        raise Interrupted(f"nothing was written to {out}") from None
+    except Escalated:
+        raise Escalated(f"stopped at once by a second stop request; nothing was written to {out}") from None
+
+
+def _adapt(model: Any, recording: PathLike, seconds: float, out: Path, start: Optional[float],
+           stop: Callable[[], bool]) -> AdaptResult:
+    """Adapt and save, once the inputs and output are checked; `stop()` ends it (Stopped) before the save."""
     from softarm.learn.adapt import Window, adapt_models
     from softarm.model.checkpoint import save_checkpoint
     from softarm.model.metrics import iou_per_frame
-    from softarm.model.trained import TrainedModel
 
-    model = TrainedModel(checkpoint, device)
     reading = model.read(recording)
     rec, imaginer = reading.recording, model.imaginer
     before = imaginer.predict(reading.inputs)
@@ -51,7 +64,8 @@ def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLi
         raise RecordingError(f"{rec.path}: {seconds:g} s of camera from {rec.times[begin]:.2f} s reach past its end "
                              f"({rec.times[-1]:.2f} s); give fewer --seconds or an earlier --from")
     clock = time.perf_counter()
-    adapted = adapt_models(imaginer, Window(begin, end, imaginer.normalised(reading.inputs).astype(np.float64), rec.frames))
+    adapted = adapt_models(imaginer, Window(begin, end, imaginer.normalised(reading.inputs).astype(np.float64), rec.frames),
+                           stop)
     took = time.perf_counter() - clock
     after = adapted.predict(reading.inputs)
     rest = (before.targets >= end) & rec.seen[before.targets]
@@ -67,6 +81,8 @@ def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLi
     if adapted.surprise is not None:
         state["surprise"] = adapted.surprise.to_state()
     state["adaptation"] = metrics
+    if stop():
+        raise Stopped()
     outputs = [Path(out)]
     with made_folders(outputs), claimed(outputs):
         save_checkpoint(out, {k: v for k, v in state.items() if k != "format"})

@@ -16,7 +16,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 from softarm.config import Config, load_config, override
 from softarm.corpus.manifest import folder_recordings
 from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingError
-from softarm.files import check_outputs, claimed, made_folders, write_json
+from softarm.files import check_outputs, claimed, made_folders, part_path, write_json
 from softarm.interrupt import Stopped, stop_on_signal
 from softarm.learn.observer import Progress, StageProgress, open_observer
 from softarm.model.registry import check_inputs, check_latent_model
@@ -76,6 +76,10 @@ def check_train_outputs(checkpoint: Path, rrd: Optional[PathLike], resume: bool,
     check_outputs(train_outputs(checkpoint, rrd), force=True, inputs=inputs)
     if rrd is not None and Path(rrd).exists() and not force:
         raise OutputError(f"output {rrd} already exists; pass --force to overwrite it")
+    unfinished = [part_path(p) for p in train_outputs(checkpoint, rrd) if part_path(p).exists()]
+    if unfinished and not force:  # the same rule as every output's: an earlier run's .part goes only with --force
+        raise OutputError(f"{unfinished[0]} holds an earlier run's unfinished file: move it away, or pass --force to "
+                          "replace it")
 
 
 def check_minutes(minutes: Optional[float]) -> None:

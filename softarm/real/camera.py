@@ -13,6 +13,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from softarm.errors import ConfigError, RecordingError
+from softarm.interrupt import Stopped
 from softarm.real.fields import header_stamp
 from softarm.real.images import crop_box, decode_image
 from softarm.real.log import LogFile
@@ -75,11 +76,11 @@ class CameraReader:
         return self.log.spread(self.settings.camera, SAMPLES)
 
     def masks(self, pool: Executor, progress: Callable[[int], None] = lambda n: None,
-              others: Optional[Other] = None) -> Masks:
+              others: Optional[Other] = None, stop: Callable[[], bool] = lambda: False) -> Masks:
         """Every frame's mask and stamp, in the log's order. Frames are decoded and segmented in the `pool`
         (`pool.segmenting_pool`, a worker process per core), TASK frames a task and at most IN_FLIGHT tasks at a
         time, while this process reads the log and hands the messages of other topics to `others` (topic -> a
-        callback of log time and message)."""
+        callback of log time and message). `stop()` is asked between tasks: True raises Stopped."""
         done: list[tuple[float, bool, np.ndarray, tuple[int, int]]] = []
         others, task, pending = others or {}, [], deque()
         try:
@@ -89,6 +90,8 @@ class CameraReader:
                     continue
                 task.append((log_time, data))
                 if len(task) == TASK:
+                    if stop():
+                        raise Stopped()
                     pending.append(pool.submit(segment_task, task))
                     task = []
                 while len(pending) > IN_FLIGHT or (pending and pending[0].done()):

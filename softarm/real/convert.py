@@ -8,8 +8,10 @@ from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
-from softarm.errors import RecordingError
+from softarm import limits
+from softarm.errors import ConfigError, RecordingError
 from softarm.files import check_outputs, claimed, fingerprint, made_folders
+from softarm.interrupt import Escalated, Interrupted, Stopped, stop_on_signal
 from softarm.real.align import Grid, camera_period, dropped_frames, estimate_lag, frame_grid, interpolate, rate
 from softarm.real.camera import CameraReader, Masks
 from softarm.real.log import LogFile
@@ -50,13 +52,21 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     """Convert; refuse, before writing anything, topics the log lacks, unsupported encodings, signals that do not
     overlap in time and a mask that is empty everywhere."""
     log_path, out = Path(log_path), Path(out)
-    check_outputs([out], force=force, inputs=[log_path])
-    with made_folders([out]), claimed([out]):  # held from the start: a second import to `out` is refused at once
-        return _import(log_path, out, settings, progress)
+    check_outputs([out], force=force, inputs=[log_path, *settings.input_files()])
+    try:
+        with stop_on_signal() as caught, made_folders([out]), claimed([out]):  # a second import to `out`: refused
+            return _import(log_path, out, settings, progress, lambda: bool(caught))
+    except Stopped:  # while the log was read: the recording is written whole at the end, so nothing was
+        raise Interrupted(f"nothing was written to {out}") from None
+    except Escalated:
+        raise Escalated(f"stopped at once by a second stop request; nothing was written to {out}") from None
 
 
-def _import(log_path: Path, out: Path, settings: ImportSettings, progress: Callable[[int], None]) -> ImportReport:
-    camera, masks, sensors, drive, digest = _read(log_path, settings, progress)
+def _import(log_path: Path, out: Path, settings: ImportSettings, progress: Callable[[int], None],
+            stop: Callable[[], bool]) -> ImportReport:
+    camera, masks, sensors, drive, digest = _read(log_path, settings, progress, stop)
+    if stop():
+        raise Stopped()
     coverage = float(masks.masks.mean())
     if coverage == 0:
         raise RecordingError(f"the mask is empty in every frame with --mask {settings.mask}"
@@ -83,11 +93,13 @@ def _import(log_path: Path, out: Path, settings: ImportSettings, progress: Calla
     return report
 
 
-def _read(log_path: Path, settings: ImportSettings, progress: Callable[[int], None]
+def _read(log_path: Path, settings: ImportSettings, progress: Callable[[int], None], stop: Callable[[], bool]
           ) -> tuple[CameraReader, Masks, Series, Optional[Series], str]:
     """The log read: its masks, sensors and drive, and its fingerprint (hashed by the pool beside the reading)."""
     with LogFile(log_path) as log:
         check_camera(log, settings)
+        if settings.frame_dt is not None:  # before any frame is read: the grid the log's span makes must fit
+            check_grid(log.seconds(), settings.frame_dt, settings.width * settings.height + 64)
         camera = CameraReader(log, settings)
         camera.first_look(camera.samples())
         readers = [SeriesReader(log, settings.sensors, "--sensors")]
@@ -96,7 +108,7 @@ def _read(log_path: Path, settings: ImportSettings, progress: Callable[[int], No
         with segmenting_pool(camera, log.decoder(settings.camera)) as pool:
             digest = pool.submit(fingerprint, log_path)
             masks = camera.masks(pool, progress, {topic: _fan_out([r for r in readers if r.topic == topic])
-                                                  for topic in {r.topic for r in readers}})
+                                                  for topic in {r.topic for r in readers}}, stop)
             digest = digest.result()
         sensors, drive = readers[0].series(), readers[1].series() if len(readers) > 1 else None
     if drive is not None and drive.values.shape[1] != 1:
@@ -150,6 +162,15 @@ def _lag(masks: Masks, sensors: Series, settings: ImportSettings) -> tuple[float
     return found.lag, found.fit
 
 
+def check_grid(seconds: float, dt: float, frame_bytes: int) -> None:
+    """Refuse a grid of `seconds` at `dt` whose frames (`frame_bytes` each: the mask, the signals) the memory cannot
+    hold, before it is made."""
+    most = limits.fitting(frame_bytes)
+    if seconds / dt > most:
+        raise ConfigError(f"--frame-dt {dt:g} s makes {seconds / dt:.3g} frames of {seconds:.3g} s of log, more than "
+                          f"the memory holds (at most {most:,}): give a longer --frame-dt")
+
+
 def _grid(masks: Masks, sensors: Series, drive: Optional[Series], lag: float, dt: float) -> tuple[Grid, tuple[float, float]]:
     """The frame grid over the time every signal covers (the sensors' and drive's stamps less the lag)."""
     spans = [(masks.stamps[0], masks.stamps[-1], "camera"), (sensors.stamps[0] - lag, sensors.stamps[-1] - lag, "sensors")]
@@ -160,5 +181,6 @@ def _grid(masks: Masks, sensors: Series, drive: Optional[Series], lag: float, dt
         covered = "; ".join(f"{name} {a - masks.stamps[0]:.3f}..{b - masks.stamps[0]:.3f} s" for a, b, name in spans)
         raise RecordingError(f"camera and sensors share no time (after a lag of {lag:.3f} s): {covered}, on the "
                              "camera's clock from its first frame; check the topics, or give --lag")
+    check_grid(end - start, dt, masks.masks[0].size + 8 * (2 + sensors.values.shape[1] + (drive is not None)))
     grid = frame_grid(masks.stamps, start, end, dt)
     return grid, (float(start - masks.stamps[0]), float(end - masks.stamps[0]))

@@ -29,6 +29,9 @@ def decode_image(message: Any, where: str, scale: Scale = lambda size: 1.0,
     Unsupported encodings are refused by name."""
     if hasattr(message, "format"):
         return _compressed(bytes(message.data), str(message.format), where, scale, roi)
+    if int(message.width) < 1 or int(message.height) < 1:
+        raise RecordingError(f"{where}: an image of {message.width}x{message.height} pixels holds nothing to find the "
+                             "arm in; check the topic")
     rgb = _raw(message, where)
     size = (rgb.shape[1], rgb.shape[0])
     return rgb[crop_box(roi, size, size)], size

@@ -108,6 +108,11 @@ class LogFile:
         raise RecordingError(f"{self.path}: no decoder reads {topic} (message encoding {encoding!r}, schema "
                              f"{getattr(schema, 'name', None)!r}); softarm reads ROS 2 (cdr), protobuf and json messages")
 
+    def seconds(self) -> float:
+        """The time the log spans, from its summary's statistics (0 where it has none)."""
+        stats = self._summary.statistics
+        return (stats.message_end_time - stats.message_start_time) / 1e9 if stats is not None else 0.0
+
     def spread(self, topic: str, count: int) -> list[Any]:
         """About `count` decoded messages of `topic` spread evenly over the log's time, read through its chunk
         index (a few chunks, not the whole file)."""

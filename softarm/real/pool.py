@@ -18,7 +18,9 @@ _WORKER: tuple[Any, Callable[[bytes], Any]] = (None, lambda data: None)  # (Came
 
 @contextmanager
 def segmenting_pool(camera: Any, decoder: Callable[[bytes], Any]) -> Iterator[Executor]:
-    """A pool whose workers know `camera` and `decoder`: processes where the platform forks, threads elsewhere."""
+    """A pool whose workers know `camera` and `decoder`: processes where the platform forks, threads elsewhere.
+    Left normally, it waits for its tasks; left by an exception (a stop request, an error), it cancels what is
+    queued and ends its worker processes at once, so that nothing waits on a worker that will not answer."""
     global _WORKER
     _WORKER = (camera, decoder)
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
@@ -28,15 +30,32 @@ def segmenting_pool(camera: Any, decoder: Callable[[bytes], Any]) -> Iterator[Ex
     else:
         pool = ThreadPoolExecutor(cores)
     try:
-        with pool:
-            yield pool
+        yield pool
+    except BaseException:
+        _abandon(pool)
+        raise
+    else:
+        pool.shutdown(wait=True)
     finally:
         _WORKER = (None, lambda data: None)
 
 
+def _abandon(pool: Executor) -> None:
+    """Cancel the queued tasks and end the worker processes now (a thread pool's threads finish their task)."""
+    workers = list(getattr(pool, "_processes", None) or {})  # ProcessPoolExecutor keeps its workers by pid
+    for pid in workers:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    pool.shutdown(wait=True, cancel_futures=True)  # its manager thread sees the workers gone and ends at once
+
+
 def _quiet_worker() -> None:
-    """Ctrl-C reaches the whole process group: the importing process handles it; a worker just ends."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    """Stop requests reach the whole process group: the importing process answers them and ends its workers
+    itself, so a worker ignores them."""
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(sig, signal.SIG_IGN)
 
 
 def segment_task(frames: Sequence[tuple[int, bytes]]) -> list[tuple[float, bool, Any, tuple[int, int]]]:

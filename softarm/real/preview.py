@@ -16,7 +16,7 @@ def preview_log(log_path: Union[str, Path], png: Union[str, Path], settings: Imp
     from softarm.view.preview import write_preview  # PIL drawing: only when a preview is asked for
 
     log_path, png = Path(log_path), Path(png)
-    check_outputs([png], force=force, inputs=[log_path])
+    check_outputs([png], force=force, inputs=[log_path, *settings.input_files()])
     with LogFile(log_path) as log:
         check_camera(log, settings)
         camera = CameraReader(log, settings)

@@ -15,8 +15,10 @@ import numpy as np
 from mcap.writer import CompressionType
 from mcap_ros2.writer import Writer
 
+from softarm import limits
 from softarm.errors import ConfigError
-from softarm.files import atomic_path, claimed, made_folders
+from softarm.files import atomic_path, check_outputs, claimed, made_folders
+from softarm.interrupt import Escalated, Interrupted, Stopped, stop_on_signal
 from softarm.real.robot_settings import RobotLogSettings, ros_header
 from softarm.record.reader import Recording, read_recording
 from softarm.record.recording import needs_nodes_error
@@ -110,11 +112,16 @@ def _camera_topic(settings: RobotLogSettings) -> tuple[str, str]:
     return "/camera/image_raw/compressed", "sensor_msgs/msg/CompressedImage"
 
 
-def make_robot_log(recording: str | Path, out: str | Path, settings: RobotLogSettings | None = None) -> RobotLog:
-    """Write `out`, a ROS 2 MCAP bag of `recording` as a lab's robot would log it, for testing log importers."""
+def make_robot_log(recording: str | Path, out: str | Path, settings: RobotLogSettings | None = None,
+                   force: bool = False) -> RobotLog:
+    """Write `out`, a ROS 2 MCAP bag of `recording` as a lab's robot would log it, for testing log importers; an
+    existing `out` is replaced only with `force`, the recording never. Ctrl-C (or SIGTERM, SIGHUP) stops it before
+    the next message, with nothing written (the bag is written whole or not at all)."""
     settings = settings or RobotLogSettings()
     if settings.image_format not in ("jpeg", "png", "rgb8"):
         raise ConfigError(f"--image-format {settings.image_format!r}: give jpeg, png or rgb8")
+    limits.finite("--offset", settings.sensor_offset, 60.0)
+    check_outputs([out], force=force, inputs=[recording])
     rec = read_recording(recording)
     if rec.positions is None or rec.displacement is None:
         raise needs_nodes_error(rec, "a robot-style log (its camera draws the arm from them)")
@@ -126,14 +133,22 @@ def make_robot_log(recording: str | Path, out: str | Path, settings: RobotLogSet
     types = {_camera_topic(settings)[0]: _camera_topic(settings)[1],
              "/arm/stretch": "softarm_msgs/msg/Stretch" if settings.sensor_header else "std_msgs/msg/Float32MultiArray",
              "/arm/command": "sensor_msgs/msg/JointState"}
-    with made_folders([out]), claimed([out]), atomic_path(out) as part, open(part, "wb") as f:
-        writer = Writer(f, compression=CompressionType.ZSTD)
-        schemas = {topic: writer.register_msgdef(name, _definition(name)) for topic, name in types.items()}
-        sequence = dict.fromkeys(types, 0)
-        for log_ns, topic, message in heapq.merge(images, stretches, drives, key=lambda m: m[0]):
-            sequence[topic] += 1
-            writer.write_message(topic, schemas[topic], message, log_ns, log_ns, sequence[topic])
-        writer.finish()
+    try:
+        with stop_on_signal() as caught, made_folders([out]), claimed([out]), atomic_path(out) as part, \
+                open(part, "wb") as f:
+            writer = Writer(f, compression=CompressionType.ZSTD)
+            schemas = {topic: writer.register_msgdef(name, _definition(name)) for topic, name in types.items()}
+            sequence = dict.fromkeys(types, 0)
+            for log_ns, topic, message in heapq.merge(images, stretches, drives, key=lambda m: m[0]):
+                if caught:
+                    raise Stopped()
+                sequence[topic] += 1
+                writer.write_message(topic, schemas[topic], message, log_ns, log_ns, sequence[topic])
+            writer.finish()
+    except Stopped:
+        raise Interrupted(f"nothing was written to {out}") from None
+    except Escalated:
+        raise Escalated(f"stopped at once by a second stop request; nothing was written to {out}") from None
     return RobotLog(Path(out), _camera_topic(settings)[0], "/arm/stretch", "/arm/command", camera.roi,
                     settings.sensor_offset, dropped, len(camera_times), camera_times)
 

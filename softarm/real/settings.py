@@ -3,6 +3,7 @@ the imported recording's metadata, so the conversion can be repeated and judged.
 
 import math
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any, Optional
 
 from softarm.config import load_config
@@ -37,6 +38,10 @@ class ImportSettings:
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+    def input_files(self) -> list[Path]:
+        """The files these settings read besides the log (a background image): inputs no output may replace."""
+        return [Path(self.background)] if self.background not in (None, "median") else []
 
 
 def parse_frame_dt(text: Optional[str]) -> Optional[float]:

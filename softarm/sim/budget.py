@@ -11,10 +11,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Optional
 
-import psutil
-
 from softarm.config import Config
 from softarm.errors import ConfigError
+from softarm.limits import available_memory
 from softarm.record.process import writer_processes
 from softarm.sim.capacity import DEVICE_HEADROOM
 
@@ -100,18 +99,6 @@ def check_resources(config: Config, out_folder: Path) -> None:
         raise ConfigError(f"the run would write about {gigabytes(need.disk_bytes)} to {existing(out_folder)}, which has "
                           f"{gigabytes(free)} free: at most {seconds:.3g} s of {arms} arm(s) fit")
     _check_open_files(arms)
-
-
-def available_memory() -> int:
-    """Available memory, within the cgroup's limit when the process runs in one (a container, a batch job)."""
-    free = psutil.virtual_memory().available
-    try:
-        limit, used = (Path("/sys/fs/cgroup") / name for name in ("memory.max", "memory.current"))
-        if limit.read_text().strip() != "max":
-            free = min(free, int(limit.read_text()) - int(used.read_text()))
-    except (OSError, ValueError):
-        pass
-    return free
 
 
 def _check_open_files(arms: int) -> None:

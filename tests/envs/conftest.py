@@ -13,7 +13,7 @@ def babble(tmp_path_factory):
     from softarm.envs.babble import babble
 
     folder = tmp_path_factory.mktemp("babble")
-    paths = babble(folder / "episodes", 2, 4.0, config=load_config(overrides={"control.workspace_samples": 16}))
+    paths = babble(folder / "episodes", 2, 4.0, config=load_config(overrides={"control.workspace_samples": 16})).paths
     toml = folder / "tiny.toml"
     toml.write_text(tiny_toml() + 'inputs = ["stretch", "activation"]\n')
     trained = run_softarm("train", str(paths[0]), "--config", str(toml), "--out", str(folder / "babble.pt"),

@@ -129,3 +129,34 @@ def test_same_step_autoreset_returns_the_first_observation_and_keeps_the_last_in
     assert (reward == 0).all()
     for key in b:
         np.testing.assert_array_equal(a[key], b[key])
+
+
+@pytest.mark.parametrize("vector", [False, True], ids=["Env", "VectorEnv"])
+def test_a_closed_env_refuses_every_call_instead_of_crashing(vector):
+    from gymnasium.error import ClosedEnvironmentError
+
+    env = SoftArmVectorEnv(2, config=SHORT) if vector else SoftArmEnv(config=SHORT, render_mode="rgb_array")
+    env.reset(seed=0)
+    env.close()
+    env.close()  # twice is fine, as Gymnasium asks
+    for call in (lambda: env.step(env.action_space.sample()), lambda: env.reset(seed=1), env.render):
+        with pytest.raises(ClosedEnvironmentError, match="closed environment"):
+            call()
+
+
+@pytest.mark.parametrize("mask", [[0, 1, 1], np.array([0, 2]), True, np.array([np.nan, 1.0, 0.0]),
+                                  np.array([True, False])], ids=["ints", "indices", "scalar", "nan", "short"])
+def test_a_reset_mask_that_is_not_one_boolean_per_arm_is_refused(mask):
+    envs = SoftArmVectorEnv(3, config=SHORT)
+    envs.reset(seed=0)
+    with pytest.raises(ValueError, match=r"boolean array of shape \(3,\)"):
+        envs.reset(options={"reset_mask": mask})
+    envs.reset(options={"reset_mask": np.array([False, True, False])})  # the right one resets arm 1 only
+    envs.close()
+
+
+def test_more_arms_than_the_memory_holds_are_refused_before_any_is_made():
+    with pytest.raises(ValueError, match="num_envs = 1000000000: give a whole number of arms from 1 to"):
+        gymnasium.make_vec("softarm/Reach-v0", num_envs=10**9, config=SHORT)
+    with pytest.raises(ValueError, match="num_envs = 0"):
+        SoftArmVectorEnv(0, config=SHORT)

@@ -9,7 +9,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 SMALL = {
-    "python_api.py": ["--seconds", "8", "--quick"],
+    "python_api.py": ["--seconds", "6", "--quick"],
     "gymnasium_ppo.py": ["--arms", "8", "--steps", "1024", "--episodes", "8"],
     "import_robot_log.py": ["--seconds", "6"],
     "custom_config.py": ["--seconds", "2", "--arms", "2"],

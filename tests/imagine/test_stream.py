@@ -61,3 +61,22 @@ def test_a_streamer_told_its_sensors_noise_equals_a_replay_told_the_same(recordi
     assert [told[k].alarm for k in frames] == list(replayed.alarm[frames])
     untold = TrainedModel(tiny_checkpoint.checkpoint).imaginer.predict(replayed.inputs)
     assert np.nanmedian(untold.surprise) > 5 * np.nanmedian(replayed.surprise)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_a_reading_that_is_not_finite_is_refused_and_spoils_nothing_after_it(recordings, tiny_checkpoint, bad):
+    imaginer = TrainedModel(tiny_checkpoint.checkpoint).imaginer
+    stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch[:120]
+    clean, hit = StreamingImaginer(imaginer), StreamingImaginer(imaginer)
+    for k, sample in enumerate(stretch):
+        if k == 60:
+            broken = sample.copy()
+            broken[2] = bad
+            with pytest.raises(ValueError, match="reading 2 of the sample is .*inf|reading 2 of the sample is nan"):
+                hit.step(broken)
+        expected, got = clean.step(sample), hit.step(sample)
+        if expected is not None:  # the refused sample left no trace: every later answer is the clean stream's
+            assert got.frame == expected.frame and got.confidence == expected.confidence
+            assert np.isfinite(got.surprise) == np.isfinite(expected.surprise) and got.alarm == expected.alarm
+            np.testing.assert_array_equal(got.probabilities, expected.probabilities)
+    assert hit.samples == clean.samples == len(stretch)
