@@ -1,5 +1,6 @@
 """Control environments' speed: env steps a second of the native `VectorEnv` against a Gymnasium
-`SyncVectorEnv` of the same single envs and against the physics kernel alone, all in one run.
+`SyncVectorEnv` of the same single envs, the device vector env on the CPU (torch tensors) and the physics kernel
+alone, all in one run.
 
     python -m bench.envs [--arms 256] [--sync-arms 32] [--substeps 30] [--seconds 3]
 
@@ -47,6 +48,18 @@ def vectorised(config: Config, arms: int, seconds: float, mode: str) -> float:
     return out
 
 
+def on_device(config: Config, arms: int, seconds: float) -> float:
+    """Env steps a second of the device vector env with device="cpu", its actions a tensor."""
+    import torch
+
+    envs = gymnasium.make_vec(TASK, num_envs=arms, config=config, device="cpu")
+    envs.reset(seed=0)
+    actions = torch.rand(envs.action_space.shape, generator=torch.Generator().manual_seed(0))
+    out = rate(lambda: envs.step(actions), arms, seconds)
+    envs.close()
+    return out
+
+
 def physics(config: Config, arms: int, seconds: float) -> float:
     """The muscled kernel alone, one frame a launch, as the vector env launches it."""
     batch = arm_batch(config, seeds=range(arms))
@@ -69,13 +82,14 @@ def main() -> None:
     rows = [("native VectorEnv", vectorised(config, args.arms, args.seconds, "vector_entry_point")),
             (f"SyncVectorEnv of {args.sync_arms} single envs",
              vectorised(config, args.sync_arms, args.seconds, "sync")),
+            ("device vector env on the CPU (torch tensors)", on_device(config, args.arms, args.seconds)),
             ("physics kernel alone", physics(config, args.arms, args.seconds))]
     vector = rows[0][1]
     print(f"| {args.arms} arms, {args.substeps} substeps | env steps/s | native VectorEnv's ratio |")
     print("|---|---:|---:|")
     for name, value in rows:
         print(f"| {name} | {value:,.0f} | {vector / value:.2f}x |")
-    print(f"\nnative VectorEnv cost per arm-step: {rows[2][1] / vector:.2f}x the physics kernel's")
+    print(f"\nnative VectorEnv cost per arm-step: {rows[-1][1] / vector:.2f}x the physics kernel's")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 """The one benchmark for a CUDA machine: physics, recording and learning on the GPU against the same machine's CPU
 (and the hand-written C loop on one core), measured in one run.
 
-    python -m bench.gpu [--quick] [--sections physics,recording,learning,pipeline|suite] [--out bench/results]
+    python -m bench.gpu [--quick] [--sections physics,recording,learning,envs,pipeline|suite,controller]
+                        [--out bench/results]
 
 Prints every table and writes them to `bench/results/gpu.md` and `gpu.json`, with the machine, the date and the
 softarm version. On a machine without CUDA it says so in one line and runs the CPU rows only. The sections:
@@ -12,11 +13,16 @@ softarm version. On a machine without CUDA it says so in one line and runs the C
 - recording: `softarm sim --arms N --duration 10`, files written, on the GPU and on the CPU: arm-seconds recorded
   per second.
 - learning: optimisation steps per second of the autoencoder and the stream model, on the device and on the CPU.
+- envs: env steps per second of the device vector env at 1 024, 16 384 and 65 536 arms, with state observations
+  and with 84x52 pixels beside them, and of the physics kernel alone, on the GPU and (to 16 384 arms) the CPU.
+- controller (not in the default; about ten minutes): `softarm babble` and `softarm train` of the body on the
+  device, then rsl-rl's PPO on Reach (4 096 arms) with the stretch alone and with the imagined body, each until
+  it reaches 95 % held-out success: the training's wall time to get there.
 - pipeline (CUDA only): `softarm corpus DIR --arch gpu && softarm train DIR --device cuda` on defaults, its wall
   time and peak GPU and host memory; `suite` does the same, then writes the held-out suite and scores the model on
   it (the IoU to hold against the CPU-trained model's, on the results pages).
 
-Sized to finish within about five minutes on an H200 with 16 cores beside it (`--quick`: a smoke test).
+The default is sized to finish within about six minutes on an H200 with 16 cores beside it (`--quick`: a smoke test).
 """
 
 import argparse
@@ -30,6 +36,7 @@ from pathlib import Path
 from typing import Callable
 
 import softarm
+from bench.gpu_envs import controller_rows, env_rows
 from bench.gpu_learning import learning_rows, pipeline_rows
 from bench.gpu_physics import equality_rows, recording_rows, scaling_rows
 
@@ -37,10 +44,12 @@ SECTIONS: dict[str, Callable[[bool, bool], list[dict]]] = {
     "physics": lambda cuda, quick: scaling_rows(cuda, quick) + equality_rows(cuda, quick),
     "recording": recording_rows,
     "learning": learning_rows,
+    "envs": env_rows,
+    "controller": controller_rows,
     "pipeline": pipeline_rows,
     "suite": lambda cuda, quick: pipeline_rows(cuda, quick, suite=True),  # the pipeline, then its suite scores
 }
-DEFAULT = "physics,recording,learning,pipeline"  # about five minutes; `suite` (a few more) replaces `pipeline`
+DEFAULT = "physics,recording,learning,envs,pipeline"  # about six minutes; `suite` (a few more) replaces `pipeline`
 
 
 def machine() -> dict[str, str]:

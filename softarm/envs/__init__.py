@@ -4,6 +4,7 @@
     import gymnasium, softarm.envs
     env = gymnasium.make("softarm/Reach-v0")
     envs = gymnasium.make_vec("softarm/Reach-v0", num_envs=256)
+    envs = gymnasium.make_vec("softarm/Reach-v0", num_envs=16_384, device="cuda")  # torch tensors on the GPU
 
 Tasks: Reach, Track, Hold (softarm.envs.tasks); observations: softarm.envs.observations.
 """
@@ -17,6 +18,6 @@ IDS = {name: f"softarm/{name.capitalize()}-v0" for name in TASKS}
 for _name, _id in IDS.items():
     if _id not in registry:
         register(id=_id, entry_point="softarm.envs.single:SoftArmEnv",
-                 vector_entry_point="softarm.envs.vector:SoftArmVectorEnv", kwargs={"task": _name})
+                 vector_entry_point="softarm.envs.entry:vector_env", kwargs={"task": _name})
 
 __all__ = ["IDS"]

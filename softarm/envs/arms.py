@@ -105,6 +105,10 @@ class Arms:
         """The top's displacement along the drive now (m): the shaking of Hold, 0 for a top held still."""
         return float(self.drives[arm].displacement(self.t0[arm] + self.steps[arm] * self.dt))
 
+    def displacements(self) -> np.ndarray:
+        """(arms, 1) every arm's `displacement`, m."""
+        return np.array([[self.displacement(a)] for a in range(self.arms)])
+
     def frames(self) -> np.ndarray:
         """(arms, H, W) uint8 camera frames of the arms now (docs/model.md, Camera)."""
         if self._camera is None:

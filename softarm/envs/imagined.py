@@ -5,6 +5,9 @@ Added keys: `imagined`, the normalised latent code of the frame it imagines next
 code that its decoder draws), and `confidence`, the error head's (1 / (1 + the predicted mean squared error of
 that code)). With `pixels=True` also `imagined_pixels`, the decoded frame's pixel probabilities (costly: one
 decoder pass per arm and step). An arm's memory restarts with each of its episodes.
+
+On a device env (softarm.envs.device_vector) the model runs on the env's device, its memory and answers stay
+there, and the observations are tensors; on the NumPy env, on the CPU, and they are arrays.
 """
 
 from pathlib import Path
@@ -16,15 +19,13 @@ from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv, VectorWrapper
 from gymnasium.vector.utils import batch_space
 
-from softarm.envs.arms import Arms
 from softarm.errors import CheckpointError
-from softarm.model.prediction import Prediction
 from softarm.model.stream import StreamModel
 
-READINGS: dict[str, Callable[[Arms], np.ndarray]] = {
+READINGS: dict[str, Callable[[Any], Any]] = {  # each arm's reading now, (arms, width): arrays or tensors
     "stretch": lambda arms: arms.stretch,
     "activation": lambda arms: arms.activation,
-    "drive": lambda arms: np.array([[arms.displacement(a)] for a in range(arms.arms)]),
+    "drive": lambda arms: arms.displacements(),
 }
 
 
@@ -35,7 +36,7 @@ class ImaginedBody(VectorWrapper):
 
         self.imaginer = TrainedModel(checkpoint).imaginer
         self.model, self.pixels = self.imaginer.latent, pixels
-        self.arms: Arms = env.unwrapped.arms
+        self.arms = env.unwrapped.arms  # Arms or DeviceArms: the same readings, as arrays or tensors
         self._check()
         k = self.imaginer.latent_scaler.keep.sum()
         single = dict(env.single_observation_space.spaces)
@@ -46,62 +47,79 @@ class ImaginedBody(VectorWrapper):
             single["imagined_pixels"] = spaces.Box(0.0, 1.0, (camera.height, camera.width), np.float32)
         self.single_observation_space = spaces.Dict(single)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.tensors = isinstance(self.arms.steps, torch.Tensor)  # a device env: tensors in, tensors out
+        self.device = self.arms.device if self.tensors else torch.device("cpu")
+        self.model.to(self.device)
+        width = sum(self.imaginer.inputs.widths)
+        offset = self.imaginer.inputs.normalise(np.zeros((1, width)))
+        scale = self.imaginer.inputs.normalise(np.eye(width)) - offset  # normalising is affine: raw @ scale + offset
+        self._scale, self._offset = (torch.as_tensor(a, device=self.device) for a in (scale, offset))
         rnn = self.model.rnn
         self._lstm = isinstance(rnn, torch.nn.LSTM)
-        zero = torch.zeros(rnn.num_layers, self.num_envs, rnn.hidden_size)
+        zero = torch.zeros(rnn.num_layers, self.num_envs, rnn.hidden_size, device=self.device)
         self._state: Any = (zero, zero.clone()) if self._lstm else zero
-        self._latent = np.zeros((self.num_envs, int(k)))
-        self._log_error = np.zeros((self.num_envs, int(k)))
-        self._ended = np.zeros(self.num_envs, bool)
+        self._latent = torch.zeros((self.num_envs, int(k)), device=self.device)
+        self._log_error = torch.zeros((self.num_envs, int(k)), device=self.device)
+        self._ended = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
 
     def reset(self, *, seed: Any = None, options: Optional[dict[str, Any]] = None):
         obs, info = self.env.reset(seed=seed, options=options)
         mask = (options or {}).get("reset_mask")
-        rows = np.arange(self.num_envs) if mask is None else np.flatnonzero(np.asarray(mask, bool))
+        rows = (torch.ones(self.num_envs, dtype=torch.bool, device=self.device) if mask is None else
+                torch.as_tensor(mask, device=self.device))
         self._forget(rows)
         self._ended[rows] = False
         return self._imagine(obs, rows), info
 
     def step(self, actions):
         obs, reward, terminated, truncated, info = self.env.step(actions)
+        ended = torch.as_tensor(terminated | truncated, device=self.device)
         same_step = self.env.metadata["autoreset_mode"] == AutoresetMode.SAME_STEP
-        self._forget(np.flatnonzero((terminated | truncated) if same_step else self._ended))
-        self._ended = terminated | truncated
-        return self._imagine(obs, np.arange(self.num_envs)), reward, terminated, truncated, info
+        self._forget(ended if same_step else self._ended)
+        self._ended = ended
+        return self._imagine(obs, None), reward, terminated, truncated, info
 
     def _check(self) -> None:
         if not isinstance(self.model, StreamModel) or self.imaginer.members:
             raise CheckpointError("the imagined-body observation reads one stream model (train.model = \"stream\", "
                                   "train.ensemble = 1)")
         for channel, width in zip(self.imaginer.inputs.channels, self.imaginer.inputs.widths):
-            if channel.name not in READINGS or READINGS[channel.name](self.arms).shape[1] != width:
+            if channel.name not in READINGS or tuple(READINGS[channel.name](self.arms).shape)[1] != width:
                 raise CheckpointError(f"the checkpoint reads {channel.name} ({width} features), which this env does "
                                       f"not give alike: it gives {', '.join(READINGS)}")
 
-    def _forget(self, rows: np.ndarray) -> None:
+    def _forget(self, rows: torch.Tensor) -> None:
         """A new episode's arm starts with the model's fresh memory (the stream's start: a zero state)."""
-        index = torch.from_numpy(rows)
         for part in self._parts():
-            part[:, index] = 0.0
+            part[:, rows] = 0.0
 
     def _parts(self) -> tuple[torch.Tensor, ...]:
         return self._state if isinstance(self._state, tuple) else (self._state,)
 
     @torch.inference_mode()
-    def _imagine(self, obs: dict[str, np.ndarray], rows: np.ndarray) -> dict[str, np.ndarray]:
-        """Advance the given arms' memories by their newest sample; every arm's latest imagination."""
-        raw = np.concatenate([READINGS[c.name](self.arms)[rows] for c in self.imaginer.inputs.channels], axis=1)
-        sample = torch.from_numpy(self.imaginer.normalised(raw)[:, None])
-        index = torch.from_numpy(rows)
-        states, after = self.model.rnn(sample, tuple(p[:, index] for p in self._parts()) if self._lstm else
-                                       self._state[:, index])
+    def _imagine(self, obs: dict[str, Any], rows: Optional[torch.Tensor]) -> dict[str, Any]:
+        """Advance the memories of the arms of the mask `rows` (None: every arm) by their newest sample, as one
+        batched call on the device; every arm's latest imagination."""
+        raw = torch.cat([torch.as_tensor(READINGS[c.name](self.arms), device=self.device)
+                         for c in self.imaginer.inputs.channels], dim=1)
+        sample = (raw.double() @ self._scale + self._offset).float()[rows if rows is not None else slice(None), None]
+        before = tuple(p[:, rows] if rows is not None else p for p in self._parts())
+        states, after = self.model.rnn(sample, before if self._lstm else before[0])
         for part, new in zip(self._parts(), after if self._lstm else (after,)):
-            part[:, index] = new
-        self._latent[rows] = self.model.head(states[:, 0]).double().numpy()
-        self._log_error[rows] = self.model.error(states[:, 0]).double().numpy()
-        prediction = Prediction(np.zeros(self.num_envs, int), self._latent, self._log_error)
-        out = {**obs, "imagined": self._latent.astype(np.float32),
-               "confidence": prediction.confidence.astype(np.float32)[:, None]}
+            if rows is None:
+                part.copy_(new)
+            else:
+                part[:, rows] = new
+        latent, log_error = self.model.head(states[:, 0]).float(), self.model.error(states[:, 0]).float()
+        if rows is None:
+            self._latent, self._log_error = latent, log_error
+        else:
+            self._latent[rows], self._log_error[rows] = latent, log_error
+        confidence = 1.0 / (1.0 + self._log_error.exp().mean(dim=1, keepdim=True))  # Prediction.confidence
+        out = {"imagined": self._latent.clone(), "confidence": confidence}
         if self.pixels:
-            out["imagined_pixels"] = self.imaginer.decode(self._latent).astype(np.float32)
-        return out
+            out["imagined_pixels"] = torch.as_tensor(
+                self.imaginer.decode(self._latent.double().cpu().numpy()).astype(np.float32), device=self.device)
+        if not self.tensors:
+            out = {key: value.cpu().numpy() for key, value in out.items()}
+        return {**obs, **out}

@@ -1,7 +1,8 @@
 """What a controller observes, one class per key of the observation dict (README, Control).
 
 Each reads the batch of arms (`softarm.envs.arms.Arms`) after a step and returns (arms, ...) float32 (pixels:
-uint8). Lengths are in millimetres, so that the numbers a policy sees are of order one to ten.
+uint8); `tensor` reads the arms of a device env (`softarm.envs.device_arms.DeviceArms`) alike, as a torch tensor on
+their device. Lengths are in millimetres, so that the numbers a policy sees are of order one to ten.
 """
 
 from abc import ABC, abstractmethod
@@ -11,7 +12,10 @@ import numpy as np
 from gymnasium import spaces
 
 if TYPE_CHECKING:
+    import torch
+
     from softarm.envs.arms import Arms
+    from softarm.envs.device_arms import DeviceArms
 
 MM = 1000.0
 LIMIT = 1000.0  # bounds of the float observations: mm (a node this far from rest has blown up) or m/s
@@ -28,6 +32,10 @@ class Observation(ABC):
     def read(self, arms: "Arms") -> np.ndarray:
         """Every arm's observation, (arms, ...)."""
 
+    @abstractmethod
+    def tensor(self, arms: "DeviceArms") -> "torch.Tensor":
+        """Every arm's observation as `read` gives it, a tensor on the arms' device."""
+
 
 class Stretch(Observation):
     """The stretch sensors as [sensing] reads them (its pairs and imperfections), mm."""
@@ -38,6 +46,9 @@ class Stretch(Observation):
 
     def read(self, arms: "Arms") -> np.ndarray:
         return (arms.stretch * MM).astype(np.float32)
+
+    def tensor(self, arms: "DeviceArms") -> "torch.Tensor":
+        return (arms.stretch * MM).float()
 
 
 class Activation(Observation):
@@ -50,6 +61,9 @@ class Activation(Observation):
     def read(self, arms: "Arms") -> np.ndarray:
         return np.clip(arms.activation, 0.0, 1.0).astype(np.float32)
 
+    def tensor(self, arms: "DeviceArms") -> "torch.Tensor":
+        return arms.activation.clamp(0.0, 1.0).float()
+
 
 class Target(Observation):
     """The task's target now, relative to where the passive arm's tip hangs, mm."""
@@ -60,6 +74,9 @@ class Target(Observation):
 
     def read(self, arms: "Arms") -> np.ndarray:
         return ((arms.target - arms.task.resting_tip) * MM).astype(np.float32)
+
+    def tensor(self, arms: "DeviceArms") -> "torch.Tensor":
+        return ((arms.target - arms.resting_tip) * MM).float()
 
 
 class Nodes(Observation):
@@ -72,6 +89,11 @@ class Nodes(Observation):
     def read(self, arms: "Arms") -> np.ndarray:
         return np.concatenate([(arms.x - arms.hanging) * MM, arms.v], axis=-1).astype(np.float32)
 
+    def tensor(self, arms: "DeviceArms") -> "torch.Tensor":
+        import torch
+
+        return torch.cat([(arms.x - arms.hanging) * MM, arms.v], dim=-1).float()
+
 
 class Pixels(Observation):
     """The camera frame of docs/model.md (binary, 1 = arm), as the recordings hold it."""
@@ -83,6 +105,9 @@ class Pixels(Observation):
 
     def read(self, arms: "Arms") -> np.ndarray:
         return arms.frames()
+
+    def tensor(self, arms: "DeviceArms") -> "torch.Tensor":
+        return arms.frames().clone()  # the rasteriser's buffer is drawn over at the next step
 
 
 OBSERVATIONS: dict[str, type[Observation]] = {o.key: o for o in (Stretch, Activation, Target, Nodes, Pixels)}

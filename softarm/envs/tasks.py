@@ -6,10 +6,14 @@ while the tip is further than `tolerance` from the target (never above 0, so tha
 """
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from softarm.config import ControlConfig
+
+if TYPE_CHECKING:
+    import torch
 
 
 class Task:
@@ -32,7 +36,16 @@ class Task:
 
     def succeeded(self, held: np.ndarray) -> np.ndarray:
         """Which arms end their episode in success, given how many steps in a row each has been on target."""
-        return np.zeros(len(held), bool)
+        return held < 0  # never (held counts up from 0), on an array or a tensor alike
+
+    def segment(self, arms: np.ndarray) -> np.ndarray:
+        """(k, 2, 2) the two places each given arm's target moves between this episode, m (a still target: its
+        place twice), so that an env on a device computes every target from them and `progress`."""
+        return np.repeat(self.goal[arms][:, None], 2, axis=1)
+
+    def progress(self, time: "torch.Tensor") -> "torch.Tensor":
+        """How far along its segment each arm's target is at its time into the episode (a tensor, s), in [0, 1]."""
+        return time * 0.0
 
 
 class Reach(Task):
@@ -50,7 +63,7 @@ class Reach(Task):
             self.goal[a] = self.places[rngs[a].integers(len(self.places))]
 
     def succeeded(self, held: np.ndarray) -> np.ndarray:
-        return held >= self.hold_steps
+        return held >= self.hold_steps  # also on a tensor of held steps
 
 
 class Track(Task):
@@ -69,6 +82,12 @@ class Track(Task):
     def target(self, time: np.ndarray) -> np.ndarray:
         share = 0.5 * (1.0 - np.cos(2.0 * math.pi * time / self.control.track_period))
         return self.ends[:, 0] + share[:, None] * (self.ends[:, 1] - self.ends[:, 0])
+
+    def segment(self, arms: np.ndarray) -> np.ndarray:
+        return self.ends[arms]
+
+    def progress(self, time: "torch.Tensor") -> "torch.Tensor":
+        return 0.5 * (1.0 - (2.0 * math.pi * time / self.control.track_period).cos())
 
 
 class Hold(Task):

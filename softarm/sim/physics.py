@@ -21,7 +21,7 @@ from softarm.arm.drive import KIND_CODES, Drive
 from softarm.arm.muscles import Muscles
 from softarm.config import Config
 from softarm.sim.capacity import check_physics, raise_on_blowup
-from softarm.sim.exchange import read_scalars, read_states, write_scalars
+from softarm.sim.exchange import place_states, read_scalars, read_states, write_scalars
 from softarm.sim.forces import accumulate_forces, first_far_node, substep
 from softarm.sim.gathered import advance_gathered
 from softarm.sim.layout import chosen_layout, place_incidence, place_state
@@ -236,6 +236,33 @@ class Simulator:
             now = self.activation()
             now[arms] = activation
             self.actuators.activation.from_numpy(now)
+
+    def keep_on_device(self, positions: object, status: object) -> None:
+        """Have the kernel write the block's positions (arms, block_frames, N, 2) float64 and the blow-up status
+        (arms, 2) int32, -1 filled, into the caller's arrays: torch tensors on the simulator's device, for a
+        controller whose state never leaves it (`step_on_device`)."""
+        self._positions, self._status = positions, status
+
+    def step_on_device(self, n_frames: int = 1) -> None:
+        """Step n_frames with nothing copied to the host: `history` is not filled, and the caller reads the state
+        through `read_into` and the blow-ups from its status array (`keep_on_device`)."""
+        self.launch(n_frames)
+        self.frame += n_frames
+
+    def read_into(self, x: object, v: object, activation: object) -> None:
+        """The state now into the caller's arrays, (arms, N, 2), (arms, N, 2) and (arms, G) float64: on a GPU, torch
+        tensors on it (one copy within the device)."""
+        read_states(self.x, self.v, x, v)
+        read_scalars(self._require_muscles().activation, activation)
+
+    def command_from(self, commands: object) -> None:
+        """`command` from an array already on the device: (arms, G) float64, contiguous."""
+        write_scalars(self._require_muscles().command, commands)
+
+    def place_on_device(self, arms: object, positions: object, velocities: object) -> None:
+        """`place` for the arms of an index array (k,) int32, states (k, N, 2) float64, all on the device, muscles
+        relaxed; no state passes through the host."""
+        place_states(self.x, self.v, self._require_muscles().activation, arms, positions, velocities)
 
     def _require_muscles(self) -> MuscleFields:
         if self.actuators is None:

@@ -8,6 +8,8 @@ the last of them and one right-to-left sweep per row, over the span where it has
 markers into parity: O(edges x rows crossed + arm width x rows) per frame, on a frame cleared beforehand.
 """
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import taichi as ti
 
@@ -15,6 +17,9 @@ from softarm.arm.camera import world_to_pixel
 from softarm.config import CameraConfig
 from softarm.sim.capacity import check_camera
 from softarm.sim.runtime import device_array, host, on_cpu, task_layout, upload
+
+if TYPE_CHECKING:
+    import torch
 
 f64nd = ti.types.ndarray(dtype=ti.f64)
 i32nd = ti.types.ndarray(dtype=ti.i32)
@@ -107,3 +112,25 @@ class Rasteriser:
         self.images.fill(0)  # a memset, far cheaper than clearing pixel by pixel in the kernel
         rasterise(history, n_frames, self.outline, self.M, self.images, self.spans, *task_layout(arms * n_frames))
         return host(self.images)[:, :n_frames]
+
+
+class TensorRasteriser:
+    """The rasteriser over torch tensors on the Taichi device: frames of a batch of arms drawn from positions that
+    never leave the device, into images that stay there (a vector env's `pixels`)."""
+
+    def __init__(self, camera: CameraConfig, outline: np.ndarray, arms: int, device: object):
+        import torch
+
+        check_camera(arms, 1, camera.height, camera.width, on_gpu=not on_cpu())
+        self.arms = arms
+        self.outline = torch.as_tensor(np.asarray(outline, np.int32), device=device)
+        self.M = torch.as_tensor(world_to_pixel(camera), device=device)
+        self.images = torch.zeros((arms, 1, camera.height, camera.width), dtype=torch.uint8, device=device)
+        self.spans = torch.zeros((arms, 1, camera.height, 2), dtype=torch.int32, device=device)
+
+    def render(self, positions: "torch.Tensor") -> "torch.Tensor":
+        """(arms, H, W) uint8 frames, 1 = arm, of node positions (arms, N, 2) float64 m; a view of the
+        rasteriser's buffer, valid until the next call."""
+        self.images.zero_()
+        rasterise(positions.unsqueeze(1), 1, self.outline, self.M, self.images, self.spans, *task_layout(self.arms))
+        return self.images[:, 0]
