@@ -109,8 +109,9 @@ def controller_rows(cuda: bool, quick: bool) -> list[dict]:
                      "note": f"{episodes} episodes of {seconds} s, train --minutes {minutes}"})
         for row in ("stretch", "imagined"):
             result = folder / f"{row}.json"
+            arms = "4096" if cuda else "256"
             run = subprocess.run([sys.executable, "-m", "bench.controller", "--library", "rsl-rl", "--device", device,
-                                  "--rows", row, "--checkpoint", str(folder / "babble.pt"), "--arms", "4096",
+                                  "--rows", row, "--checkpoint", str(folder / "babble.pt"), "--arms", arms,
                                   "--minutes", "1" if quick else "5", "--json", str(result)],
                                  capture_output=True, text=True, cwd=Path(__file__).parents[1])
             if run.returncode != 0:
