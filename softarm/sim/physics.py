@@ -21,7 +21,7 @@ from softarm.arm.drive import KIND_CODES, Drive
 from softarm.arm.muscles import Muscles
 from softarm.config import Config
 from softarm.sim.capacity import check_physics, raise_on_blowup
-from softarm.sim.exchange import place_states, read_scalars, read_states, write_scalars
+from softarm.sim.exchange import Exchange
 from softarm.sim.forces import accumulate_forces, first_far_node, substep
 from softarm.sim.gathered import advance_gathered
 from softarm.sim.layout import chosen_layout, place_incidence, place_state
@@ -35,7 +35,7 @@ i32nd = ti.types.ndarray(dtype=ti.i32, ndim=2)
 
 
 @ti.data_oriented
-class Simulator:
+class Simulator(Exchange):
     """Owns the state of a batch of arms on the Taichi device and steps it block by block.
 
     The state lives in Taichi fields whose shapes are fixed per simulator, so the kernel's index
@@ -210,64 +210,6 @@ class Simulator:
             out.append(self.history[:, :block].copy())  # the next block overwrites history in place
             n_frames -= block
         return np.concatenate(out, axis=1)
-
-    def command(self, commands: np.ndarray) -> None:
-        """Hold each arm's muscle commands (arms, G), in [0, 1], from the next substep on."""
-        write_scalars(self._require_muscles().command, upload(np.asarray(commands, np.float64)))
-
-    def activation(self) -> np.ndarray:
-        """(arms, G) activations now."""
-        read_scalars(self._require_muscles().activation, self._activation)
-        return host(self._activation).copy()
-
-    def state(self) -> tuple[np.ndarray, np.ndarray]:
-        """(arms, N, 2) positions and velocities now (after the last step), float64 copies."""
-        read_states(self.x, self.v, *self._state)
-        return host(self._state[0]).copy(), host(self._state[1]).copy()
-
-    def place(self, arms: np.ndarray, positions: np.ndarray, velocities: np.ndarray,
-              activation: Optional[np.ndarray] = None) -> None:
-        """Put the given arms (indices) at new states, e.g. an environment's reset; the others keep theirs."""
-        x, v = self.state()
-        x[arms], v[arms] = positions, velocities
-        self.x.from_numpy(x)
-        self.v.from_numpy(v)
-        if activation is not None:
-            now = self.activation()
-            now[arms] = activation
-            self.actuators.activation.from_numpy(now)
-
-    def keep_on_device(self, positions: object, status: object) -> None:
-        """Have the kernel write the block's positions (arms, block_frames, N, 2) float64 and the blow-up status
-        (arms, 2) int32, -1 filled, into the caller's arrays: torch tensors on the simulator's device, for a
-        controller whose state never leaves it (`step_on_device`)."""
-        self._positions, self._status = positions, status
-
-    def step_on_device(self, n_frames: int = 1) -> None:
-        """Step n_frames with nothing copied to the host: `history` is not filled, and the caller reads the state
-        through `read_into` and the blow-ups from its status array (`keep_on_device`)."""
-        self.launch(n_frames)
-        self.frame += n_frames
-
-    def read_into(self, x: object, v: object, activation: object) -> None:
-        """The state now into the caller's arrays, (arms, N, 2), (arms, N, 2) and (arms, G) float64: on a GPU, torch
-        tensors on it (one copy within the device)."""
-        read_states(self.x, self.v, x, v)
-        read_scalars(self._require_muscles().activation, activation)
-
-    def command_from(self, commands: object) -> None:
-        """`command` from an array already on the device: (arms, G) float64, contiguous."""
-        write_scalars(self._require_muscles().command, commands)
-
-    def place_on_device(self, arms: object, positions: object, velocities: object) -> None:
-        """`place` for the arms of an index array (k,) int32, states (k, N, 2) float64, all on the device, muscles
-        relaxed; no state passes through the host."""
-        place_states(self.x, self.v, self._require_muscles().activation, arms, positions, velocities)
-
-    def _require_muscles(self) -> MuscleFields:
-        if self.actuators is None:
-            raise ValueError("this simulator has no muscles: build it with a Muscles that has groups")
-        return self.actuators
 
     def close(self) -> None:
         """Free the fields; a process that makes many simulators (a notebook, the tests) should call it."""
