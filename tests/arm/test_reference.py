@@ -42,6 +42,7 @@ def test_arm_started_at_its_hanging_equilibrium_stays_put():
     assert np.abs(out - x).max() < 1e-9
 
 
+@pytest.mark.slow
 def test_undamped_spring_keeps_its_energy_over_many_periods():
     # A stretching, swinging spring in the plane (node 1 pulled out and pushed sideways).
     body = one_spring(damping=0.0)

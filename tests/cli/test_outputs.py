@@ -5,6 +5,7 @@ import pytest
 from tests.helpers.cli import assert_one_line_error, softarm
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["train", "replay"])
 def test_output_whose_parent_is_a_file_is_refused(recordings, tiny_checkpoint, tmp_path, command):
     (tmp_path / "afile").write_text("")
@@ -13,6 +14,7 @@ def test_output_whose_parent_is_a_file_is_refused(recordings, tiny_checkpoint, t
     assert_one_line_error(softarm(*args[command], cwd=tmp_path), "afile", "not a folder")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["train", "replay"])
 def test_existing_output_is_refused_without_force(recordings, tiny_checkpoint, tmp_path, command):
     (tmp_path / "old").write_text("precious")

@@ -27,6 +27,7 @@ def test_group_seeds_never_overlap_and_stay_below_the_suite():
     assert len(set(seeds)) == len(seeds) and max(seeds) < HELD_OUT_SEED_BASE
 
 
+@pytest.mark.slow
 def test_a_general_corpus_holds_every_group_with_its_motion(tmp_path):
     manifest = write_corpus(tmp_path, arms=len(PRESETS["general"]), duration=0.2)
     document = json.loads(manifest.read_text())
@@ -42,6 +43,7 @@ def test_a_general_corpus_holds_every_group_with_its_motion(tmp_path):
         name for entry in document["groups"].values() for name in entry["recordings"])
 
 
+@pytest.mark.slow
 def test_train_learns_from_a_corpus_folder(tmp_path):
     result = softarm("corpus", "runs", "--preset", "paper", "--arms", "2", "--duration", "4", "-q", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -53,6 +55,7 @@ def test_train_learns_from_a_corpus_folder(tmp_path):
     assert [r["name"] for r in state["recordings"]] == ["paper_arm0.mcap", "paper_arm1.mcap"]
 
 
+@pytest.mark.slow
 def test_unknown_presets_and_empty_folders_are_refused_in_one_line(tmp_path):
     assert_one_line_error(softarm("corpus", "c", "--preset", "everything", cwd=tmp_path), "--preset", "general")
     (tmp_path / "empty").mkdir()

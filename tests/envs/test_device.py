@@ -17,6 +17,9 @@ from softarm.envs.imagined import ImaginedBody
 from softarm.envs.vector import SoftArmVectorEnv
 from tests.envs.conftest import random_commands
 
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
+
+
 QUICK = load_config(overrides={"control.episode": 0.3, "control.hold": 0.05, "control.workspace_samples": 16,
                                "control.tolerance": 0.02})  # 30 steps; Reach ends early now and then
 EVERY = ("stretch", "activation", "target", "nodes", "pixels")

@@ -16,6 +16,7 @@ QUICK = {"control.episode": 0.2, "control.hold": 0.05, "control.workspace_sample
 SHORT = load_config(overrides=QUICK)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("task", sorted(softarm.envs.IDS))
 def test_every_task_passes_gymnasiums_env_checker(task):
     env = gymnasium.make(softarm.envs.IDS[task], config=SHORT, observe=["stretch", "activation", "target", "nodes",
@@ -27,6 +28,7 @@ def test_every_task_passes_gymnasiums_env_checker(task):
     env.close()
 
 
+@pytest.mark.slow
 def test_make_vec_builds_the_native_vector_env_with_batched_spaces():
     envs = gymnasium.make_vec("softarm/Reach-v0", num_envs=3, config=SHORT)
     assert isinstance(envs, SoftArmVectorEnv)
@@ -42,6 +44,7 @@ def test_make_vec_builds_the_native_vector_env_with_batched_spaces():
     envs.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("task", ["track", "hold"])  # hold: the shaking's phase and the push follow each episode
 def test_each_arm_of_the_vector_env_runs_as_a_single_env_of_its_seed_through_autoresets(task):
     n, steps = 3, 45  # over two 20-step episodes: truncation, then NEXT_STEP's reset step, then a new episode
@@ -77,6 +80,7 @@ def test_each_arm_of_the_vector_env_runs_as_a_single_env_of_its_seed_through_aut
         env.close()
 
 
+@pytest.mark.slow
 def test_reset_with_the_same_seed_repeats_the_targets_and_readings():
     envs = SoftArmVectorEnv(4, "reach", load_config(overrides={**QUICK, "sensing.noise": 1e-4}))
     first = envs.reset(seed=3)[0]
@@ -88,6 +92,7 @@ def test_reset_with_the_same_seed_repeats_the_targets_and_readings():
     envs.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("action, message", [(np.full(3, 0.5), "shape"), (np.array([0.5, np.nan, 0, 0]), "NaN"),
                                              (np.array([0.5, np.inf, 0, 0]), "NaN or infinite")])
 def test_a_bad_action_is_refused_in_words(action, message):
@@ -98,6 +103,7 @@ def test_a_bad_action_is_refused_in_words(action, message):
     env.close()
 
 
+@pytest.mark.slow
 def test_out_of_range_commands_are_clipped_to_the_unit_interval():
     clipped, plain = SoftArmEnv("reach", SHORT), SoftArmEnv("reach", SHORT)
     for env in (clipped, plain):
@@ -111,6 +117,7 @@ def test_out_of_range_commands_are_clipped_to_the_unit_interval():
     plain.close()
 
 
+@pytest.mark.slow
 def test_same_step_autoreset_returns_the_first_observation_and_keeps_the_last_in_info():
     same = SoftArmVectorEnv(2, "track", SHORT, autoreset_mode=AutoresetMode.SAME_STEP)
     next_step = SoftArmVectorEnv(2, "track", SHORT)
@@ -131,6 +138,7 @@ def test_same_step_autoreset_returns_the_first_observation_and_keeps_the_last_in
         np.testing.assert_array_equal(a[key], b[key])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("vector", [False, True], ids=["Env", "VectorEnv"])
 def test_a_closed_env_refuses_every_call_instead_of_crashing(vector):
     from gymnasium.error import ClosedEnvironmentError
@@ -144,6 +152,7 @@ def test_a_closed_env_refuses_every_call_instead_of_crashing(vector):
             call()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mask", [[0, 1, 1], np.array([0, 2]), True, np.array([np.nan, 1.0, 0.0]),
                                   np.array([True, False])], ids=["ints", "indices", "scalar", "nan", "short"])
 def test_a_reset_mask_that_is_not_one_boolean_per_arm_is_refused(mask):

@@ -15,6 +15,7 @@ from tests.envs.conftest import random_commands
 QUICK = load_config(overrides={"control.episode": 0.3, "control.hold": 0.1, "control.workspace_samples": 16})  # 30 steps
 
 
+@pytest.mark.slow
 def test_each_arms_imagination_equals_the_checkpoints_batch_answer_on_its_readings(babble):
     _, checkpoint, _ = babble
     env = ImaginedBody(SoftArmVectorEnv(3, "track", QUICK), checkpoint)
@@ -35,6 +36,7 @@ def test_each_arms_imagination_equals_the_checkpoints_batch_answer_on_its_readin
         np.testing.assert_allclose(got, answer.latents, atol=1e-4)
 
 
+@pytest.mark.slow
 def test_an_arm_that_starts_a_new_episode_imagines_from_a_fresh_memory(babble):
     _, checkpoint, _ = babble
     env = ImaginedBody(SoftArmVectorEnv(2, "track", QUICK), checkpoint)
@@ -48,6 +50,7 @@ def test_an_arm_that_starts_a_new_episode_imagines_from_a_fresh_memory(babble):
     assert np.abs(before["imagined"] - fresh["imagined"]).max() > 1e-2
 
 
+@pytest.mark.slow
 def test_a_checkpoint_that_reads_what_the_env_does_not_give_is_refused(babble):
     _, checkpoint, _ = babble
     three = load_config(overrides={"control.workspace_samples": 16, "sensing.pairs": [[3, 27], [5, 29], [27, 54]]})
@@ -55,6 +58,7 @@ def test_a_checkpoint_that_reads_what_the_env_does_not_give_is_refused(babble):
         ImaginedBody(SoftArmVectorEnv(2, "reach", three), checkpoint)
 
 
+@pytest.mark.slow
 def test_stable_baselines3_ppo_trains_on_the_imagined_body_through_the_adapter(babble):
     from stable_baselines3 import PPO
 

@@ -6,6 +6,7 @@ import json
 
 import gymnasium
 import numpy as np
+import pytest
 from mcap.reader import make_reader
 
 import softarm.envs  # noqa: F401
@@ -19,6 +20,8 @@ from softarm.envs.record import RecordEpisodes
 from softarm.record.reader import read_recording
 from tests.helpers.cli import assert_one_line_error
 from tests.helpers.cli import softarm as run_softarm
+
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
 
 
 def record(folder, task: str, seconds: float, episodes: int = 1) -> list:

@@ -11,6 +11,9 @@ from softarm.config import load_config
 from softarm.envs.device_vector import DeviceVectorEnv
 from softarm.envs.rsl import OFFSET, RslRlVecEnv, ppo_config
 
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
+
+
 SHORT = load_config(overrides={"control.episode": 1.0, "control.workspace_samples": 16})  # 100 steps
 STATE = ("stretch", "activation", "target")
 

@@ -14,6 +14,8 @@ from softarm.imagine.replay import compute_replay
 from softarm.model.surprise import LAGS
 from tests.helpers.cli import RERUN, assert_one_line_error, softarm
 
+pytestmark = pytest.mark.slow  # each test replays a trained checkpoint through the CLI: seconds
+
 
 @pytest.fixture(scope="module")
 def outputs(recordings, tiny_checkpoint, tmp_path_factory):

@@ -1,7 +1,11 @@
 """Replay on recordings it did not expect: another image size is refused, a truncated one is used
 with a warning."""
 
+import pytest
+
 from tests.helpers.cli import assert_one_line_error, softarm
+
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
 
 
 def test_recording_with_another_image_size_is_refused(tiny_checkpoint, tmp_path):

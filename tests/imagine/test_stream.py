@@ -11,6 +11,7 @@ from softarm.model.trained import TrainedModel
 from softarm.record.reader import read_recording
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("fixture", ["tiny_window_checkpoint", "tiny_checkpoint"])
 def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
     imaginer = TrainedModel(request.getfixturevalue(fixture).checkpoint).imaginer
@@ -34,6 +35,7 @@ def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
     assert stream.step(stretch[0]) is None and stream.samples == 1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("fixture, remembers", [("tiny_window_checkpoint", False), ("tiny_checkpoint", True)])
 def test_only_the_stream_model_remembers_samples_older_than_its_window(recordings, fixture, remembers, request):
     imaginer = TrainedModel(request.getfixturevalue(fixture).checkpoint).imaginer
@@ -44,6 +46,7 @@ def test_only_the_stream_model_remembers_samples_older_than_its_window(recording
     assert (np.abs(frame_110[0] - frame_110[1]).max() > 1e-6) == remembers
 
 
+@pytest.mark.slow
 def test_a_streamer_told_its_sensors_noise_equals_a_replay_told_the_same(recordings, tiny_checkpoint):
     """Through sensors with 50 um of white noise, replay's --sensor-noise and the streamer built with the same
     noise give the same surprises and alarms; without being told, the same readings surprise it far more."""
@@ -63,6 +66,7 @@ def test_a_streamer_told_its_sensors_noise_equals_a_replay_told_the_same(recordi
     assert np.nanmedian(untold.surprise) > 5 * np.nanmedian(replayed.surprise)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
 def test_a_reading_that_is_not_finite_is_refused_and_spoils_nothing_after_it(recordings, tiny_checkpoint, bad):
     imaginer = TrainedModel(tiny_checkpoint.checkpoint).imaginer

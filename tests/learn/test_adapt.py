@@ -47,6 +47,7 @@ def latent_error(checkpoint, recording, frames):
     return float(np.mean((prediction.latents[chosen] - truth) ** 2))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("fixture", ["tiny_window_checkpoint", "tiny_checkpoint"])
 def test_the_latents_fine_tuning_differentiates_are_the_models_answers(loaded, fixture, request):
     model = TrainedModel(request.getfixturevalue(fixture).checkpoint)
@@ -58,6 +59,7 @@ def test_the_latents_fine_tuning_differentiates_are_the_models_answers(loaded, f
     np.testing.assert_allclose(at.numpy(), prediction.latents[::37], atol=1e-5)
 
 
+@pytest.mark.slow
 def test_adapt_fits_the_seconds_of_camera_and_reports_the_rest(loaded, tiny_checkpoint, tmp_path):
     result = softarm("adapt", str(tiny_checkpoint.checkpoint), str(loaded), "--seconds", "2", "--out", "a.pt", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -68,6 +70,7 @@ def test_adapt_fits_the_seconds_of_camera_and_reports_the_rest(loaded, tiny_chec
     assert adaptation["camera_frames"] == 200 and adaptation["rest_frames"] == 200
 
 
+@pytest.mark.slow
 def test_adapt_refuses_what_it_cannot_do(loaded, tiny_checkpoint, tmp_path):
     too_long = softarm("adapt", str(tiny_checkpoint.checkpoint), str(loaded), "--seconds", "9", "--out", "a.pt",
                        cwd=tmp_path)

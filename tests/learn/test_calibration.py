@@ -3,11 +3,14 @@ log(1 - IoU + margin) has the mean of the true one (the property of a fit with a
 replay of the training recording."""
 
 import numpy as np
+import pytest
 
 from softarm.imagine.replay import compute_replay
 from softarm.model.baselines import ridge_predict
 from softarm.model.trained import TrainedModel
 from softarm.model.trust import CalibratedTrust
+
+pytestmark = pytest.mark.slow  # each test fits on a trained checkpoint: seconds
 
 
 def test_the_calibrated_map_is_fitted_on_the_held_out_frames(recordings, tiny_checkpoint):

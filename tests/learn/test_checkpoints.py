@@ -6,6 +6,7 @@ import signal
 import subprocess
 import time
 
+import pytest
 import torch
 
 from softarm.model.checkpoint import load_checkpoint
@@ -18,6 +19,7 @@ def tiny_config(folder):
     return "tiny.toml"
 
 
+@pytest.mark.slow
 def test_checkpoint_of_another_model_shape_is_refused(recordings, tiny_checkpoint, tmp_path):
     state = load_checkpoint(tiny_checkpoint.checkpoint)
     state["config"]["train"]["latent"] = 12  # the weights are for 8 latent features
@@ -26,6 +28,7 @@ def test_checkpoint_of_another_model_shape_is_refused(recordings, tiny_checkpoin
                           "do not fit")
 
 
+@pytest.mark.slow
 def test_a_surprise_model_of_an_earlier_softarm_is_refused_with_how_to_refit_it(recordings, tiny_checkpoint, tmp_path):
     state = load_checkpoint(tiny_checkpoint.checkpoint)
     old = state["surprise"]
@@ -35,6 +38,7 @@ def test_a_surprise_model_of_an_earlier_softarm_is_refused_with_how_to_refit_it(
                           "--resume")
 
 
+@pytest.mark.slow
 def test_empty_checkpoint_is_refused(recordings, tmp_path):
     (tmp_path / "empty.pt").write_bytes(b"")
     assert_one_line_error(softarm("replay", "empty.pt", str(recordings / "s0.mcap"), cwd=tmp_path),
@@ -46,6 +50,7 @@ def test_resume_without_a_checkpoint_is_refused(recordings, tmp_path):
     assert_one_line_error(result, "--resume", "no checkpoint", "none.pt")
 
 
+@pytest.mark.slow
 def test_ctrl_c_during_training_keeps_a_valid_checkpoint_and_resume_ends_like_an_uninterrupted_run(
         recordings, tiny_checkpoint, tmp_path):
     config = tiny_config(tmp_path)

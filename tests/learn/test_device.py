@@ -29,6 +29,7 @@ def test_auto_is_the_gpu_where_torch_sees_one_and_the_cpu_elsewhere():
         torch_device("tpu")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(torch.cuda.is_available(), reason="this machine has a GPU")
 def test_cuda_without_a_gpu_is_refused_in_one_line_before_any_work(recordings, tmp_path):
     with pytest.raises(ConfigError, match="torch sees no CUDA GPU"):

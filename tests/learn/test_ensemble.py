@@ -5,6 +5,7 @@ again what it had, and a checkpoint's confidence can be the members' disagreemen
 import shutil
 
 import numpy as np
+import pytest
 import torch
 
 from softarm.config import load_config
@@ -14,6 +15,8 @@ from softarm.model.imaginer import Imaginer
 from softarm.model.trained import TrainedModel
 from softarm.record.reader import read_recording
 from tests.helpers.tiny import TINY
+
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
 
 
 def test_an_ensemble_answers_with_its_members_mean_and_variance(recordings, tmp_path):

@@ -28,6 +28,7 @@ def test_node_targets_are_the_positions_less_their_training_mean_over_one_spread
     np.testing.assert_allclose(targets, centred / spread, atol=1e-4)  # float32 positions and targets
 
 
+@pytest.mark.slow
 def test_a_model_trained_with_the_node_target_learns_the_nodes_and_answers_as_any_other(recordings, tmp_path):
     config = load_config(overrides={**TINY, "train.node_target": 1.0, "train.epochs_lstm": 40})
     result = train([recordings / "s0.mcap"], config, tmp_path / "nodes.pt")

@@ -53,6 +53,7 @@ def test_measuring_leaves_the_networks_as_they_were(state):
     assert all(p.grad is None for p in state.autoencoder.parameters())
 
 
+@pytest.mark.slow
 def test_an_auto_training_keeps_its_choice_in_the_checkpoint(recordings, tmp_path, monkeypatch):
     timed(monkeypatch, {"fp32": 0.2, "bf16": 0.1}, {"fp32": 0.2, "bf16": 0.1})
     config = load_config(overrides={**TINY, "train.epochs_ae": 1, "train.epochs_lstm": 1, "train.precision": "auto"})

@@ -2,6 +2,7 @@
 realisation for the same seed, and a checkpoint that replays with the sensors it was trained on."""
 
 import numpy as np
+import pytest
 
 from softarm.config import load_config
 from softarm.imagine.replay import compute_replay
@@ -20,6 +21,7 @@ def test_the_dataset_reads_the_configured_imperfections_reproducibly(recordings)
     np.testing.assert_array_equal(noisy, again)
 
 
+@pytest.mark.slow
 def test_a_checkpoint_of_other_pairs_replays_any_recording_with_its_own_pairs(recordings, tmp_path):
     pairs = [[3, 54], [5, 56]]  # two long sensors, neither of them recorded
     config = load_config(overrides={**TINY, "train.epochs_ae": 2, "train.epochs_lstm": 2, "sensing.pairs": pairs})

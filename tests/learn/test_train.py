@@ -59,6 +59,7 @@ def test_feature_filter_drops_constant_features_and_normalisation_round_trips():
     assert np.array_equal(again.forward(data), normalised)
 
 
+@pytest.mark.slow
 def test_resume_after_an_interruption_ends_exactly_like_an_uninterrupted_run(recordings, tiny_checkpoint, tmp_path):
     trained = tiny_checkpoint
     out = tmp_path / "resumed.pt"
@@ -73,6 +74,7 @@ def test_resume_after_an_interruption_ends_exactly_like_an_uninterrupted_run(rec
     np.testing.assert_equal(load_checkpoint(out)["losses"], load_checkpoint(trained.checkpoint)["losses"])  # NaN: not validated
 
 
+@pytest.mark.slow
 def test_cli_refuses_recordings_that_do_not_fit_together(recordings, tmp_path):
     result = softarm("train", str(recordings / "s0.mcap"), str(recordings / "three_sensors.mcap"),
                      "--out", "x.pt", cwd=tmp_path)
@@ -101,6 +103,7 @@ def test_resume_warns_that_changed_settings_are_ignored(recordings, tiny_checkpo
     assert again.metrics == tiny_checkpoint.metrics  # the saved run was already finished: nothing changes
 
 
+@pytest.mark.slow
 def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_the_checkpoint(
         recordings, tmp_path, monkeypatch):
     from softarm.learn import budget, step_times
@@ -123,6 +126,7 @@ def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_th
     assert trained.complete and 0 < saved["max_steps_ae"] < ae.total and 0 < saved["max_steps_lstm"] < lstm.total
 
 
+@pytest.mark.slow
 def test_the_work_before_and_after_the_steps_reports_its_progress(recordings, tiny_checkpoint, tmp_path):
     import shutil
 

@@ -24,6 +24,7 @@ def corpus(tmp_path_factory):
     return sorted(folder.glob("*.mcap"))
 
 
+@pytest.mark.slow
 def test_a_held_out_recording_trains_nothing_and_is_validated_whole(corpus):
     config = load_config()
     data = load_dataset(corpus, config, channels())
@@ -33,6 +34,7 @@ def test_a_held_out_recording_trains_nothing_and_is_validated_whole(corpus):
     assert data.count("train") == 4 * 170
 
 
+@pytest.mark.slow
 def test_training_on_a_corpus_reports_the_held_out_recordings(corpus, tmp_path):
     from softarm.learn.run import train
 
@@ -44,6 +46,7 @@ def test_training_on_a_corpus_reports_the_held_out_recordings(corpus, tmp_path):
     assert 0 <= validation["model"]["iou"] <= 1
 
 
+@pytest.mark.slow
 def test_validating_a_latent_model_less_often_leaves_its_weights_as_they_were(recordings, tmp_path, monkeypatch):
     """The held-out loss is only reported: every fifth epoch and the last are validated, the others keep NaN, and
     the weights equal those of a run validated after every epoch."""

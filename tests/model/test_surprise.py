@@ -3,6 +3,7 @@ next command to the felt signal, plus white noise of a known spread, steady or g
 and the streamer's reader against the batch series."""
 
 import numpy as np
+import pytest
 
 from softarm.learn.surprise_fit import fit_surprise
 from softarm.model.alarm import alarm_onsets, alarm_threshold
@@ -127,6 +128,7 @@ def test_noise_the_model_is_told_of_is_expected_not_surprising():
     assert model.heard_through(np.zeros(len(FELT))).noise_floor == 0.0
 
 
+@pytest.mark.slow
 def test_the_noise_terms_match_what_noise_adds_to_the_residuals_and_the_vigour():
     """Monte Carlo: the extra mean squared residual (in spreads) and the vigour signals' extra mean, from the same
     motion read with and without 0.2 of white noise, against the model's closed forms."""

@@ -3,6 +3,7 @@
 
 import json
 
+import pytest
 from foxglove_schemas_protobuf.CompressedImage_pb2 import CompressedImage
 from mcap.reader import make_reader
 from mcap.writer import Writer as McapWriter
@@ -11,6 +12,8 @@ from mcap_ros2.decoder import DecoderFactory
 
 from softarm.real.convert import import_log
 from softarm.real.settings import ImportSettings
+
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
 
 
 def foxglove_copy(bag, path) -> None:

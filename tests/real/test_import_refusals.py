@@ -38,6 +38,7 @@ def test_a_topic_not_in_the_log_is_named_with_the_topics_that_are(robot_bag, tmp
     assert "/camera/image_raw/compressed" in message and "/arm/stretch:data" in message and "/arm/command:position" in message
 
 
+@pytest.mark.slow
 def test_a_field_path_that_does_not_exist_is_named(robot_bag, tmp_path):
     assert_one_line_error(run_import(robot_bag.path, tmp_path, sensors="/arm/stretch:nope"), "nope", "data")
 
@@ -46,15 +47,18 @@ def test_an_unsupported_encoding_is_named(yuv_bag, tmp_path):
     assert_one_line_error(run_import(yuv_bag, tmp_path, camera="/cam", sensors="/cam:height"), "yuv422")
 
 
+@pytest.mark.slow
 def test_camera_and_sensors_without_overlap_are_refused(robot_bag, tmp_path):
     assert_one_line_error(run_import(robot_bag.path, tmp_path, "--lag", "30"), "share no time")
 
 
+@pytest.mark.slow
 def test_a_mask_empty_everywhere_suggests_a_threshold(robot_bag, tmp_path):
     assert_one_line_error(run_import(robot_bag.path, tmp_path, "--mask", "r>255"), "empty",
                           "threshold")
 
 
+@pytest.mark.slow
 def test_a_drive_of_several_values_is_refused(robot_bag, tmp_path):
     assert_one_line_error(run_import(robot_bag.path, tmp_path, "--drive", "/arm/stretch:data"), "one command")
 
@@ -63,6 +67,7 @@ def test_a_lag_that_is_not_a_number_is_refused(robot_bag, tmp_path):
     assert_one_line_error(run_import(robot_bag.path, tmp_path, "--lag", "nan"), "--lag")
 
 
+@pytest.mark.slow
 def test_a_mask_that_never_changes_gives_no_lag(robot_bag, tmp_path):
     assert_one_line_error(run_import(robot_bag.path, tmp_path, "--mask", "gray<256"),
                           "lag", "--lag")

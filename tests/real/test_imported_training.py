@@ -14,6 +14,9 @@ from softarm.real.robot_log import RobotLogSettings, make_robot_log
 from softarm.real.settings import ImportSettings
 from tests.helpers.tiny import TINY
 
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
+
+
 SHORT = {**TINY, "train.train_fraction": 0.7, "train.test_fraction": 0.15}  # 4 s at 30 Hz: 18 frames to imagine
 
 

@@ -44,6 +44,7 @@ def jpeg_log(recordings, tmp_path_factory):
     return rec, make_robot_log(recordings / "s0.mcap", tmp_path_factory.mktemp("robot") / "bag.mcap")
 
 
+@pytest.mark.slow
 def test_the_camera_shows_the_recording_frames_minus_the_dropped_ones(jpeg_log):
     rec, log = jpeg_log
     settings = RobotLogSettings()

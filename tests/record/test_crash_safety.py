@@ -43,6 +43,7 @@ def recovered(path) -> int:
         return len(read_recording(path, nodes=False).times)
 
 
+@pytest.mark.slow
 def test_a_killed_writer_keeps_every_complete_chunk_and_the_command_ends_in_seconds(tmp_path):
     proc = start("--arms", "2", "--duration", "300", "--out", "k.mcap", cwd=tmp_path)
     wait_for_chunks(tmp_path, "k_arm*.mcap.part")
@@ -58,6 +59,7 @@ def test_a_killed_writer_keeps_every_complete_chunk_and_the_command_ends_in_seco
     assert recovered(cut) == count_frames(cut) > 100 and f"{count_frames(cut)} frames" in message
 
 
+@pytest.mark.slow
 def test_a_full_disk_keeps_what_was_written_and_says_so(tmp_path, monkeypatch):
     real = McapWriter.flush_chunk
     chunks = {"n": 0}
@@ -79,6 +81,7 @@ def test_a_full_disk_keeps_what_was_written_and_says_so(tmp_path, monkeypatch):
     assert recovered(kept) == count_frames(kept) > 300 and f"{count_frames(kept)} frames" in message
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
 def test_a_signal_to_the_process_group_closes_every_file_with_every_frame(tmp_path, sig):
     proc = start("--arms", "2", "--duration", "1000", "--out", "s.mcap", cwd=tmp_path)
@@ -93,6 +96,7 @@ def test_a_signal_to_the_process_group_closes_every_file_with_every_frame(tmp_pa
     assert len(frames[0].times) == len(frames[1].times) > 100 and f"{len(frames[0].times)} frames" in stderr
 
 
+@pytest.mark.slow
 def test_writers_close_their_files_when_the_simulation_is_killed(tmp_path):
     proc = start("--arms", "2", "--duration", "1000", "--out", "p.mcap", cwd=tmp_path)
     wait_for_chunks(tmp_path, "p_arm*.mcap.part")
@@ -106,6 +110,7 @@ def test_writers_close_their_files_when_the_simulation_is_killed(tmp_path):
         assert not rec.complete and len(rec.times) > 100
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, config, words", [
     (["--arms", "10000000"], "", ["10000000 arm(s)", "memory", "at most"]),
     (["--duration", "1e8"], "", ["frames per arm", "run.duration", "integration.frame_dt"]),

@@ -21,6 +21,7 @@ CASES = {**{kind: {"disturbances": [table]} for kind, table in ONE_OF_EACH.items
          "all at once": {"disturbances": list(ONE_OF_EACH.values()), "world.random": [DRAWN]}}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", list(CASES))
 def test_every_kind_records_re_simulates_from_its_metadata_and_passes_the_checker(tmp_path, case):
     config = load_config(overrides={"run.duration": 2.0, "run.seed": 3, "excitation.amplitude": 0.006, **CASES[case]})
@@ -49,6 +50,7 @@ def test_the_same_seed_draws_the_same_disturbances_and_another_seed_others(tmp_p
     assert first.disturbances[0] != first.disturbances[1]
 
 
+@pytest.mark.slow
 def test_bad_disturbances_are_refused_in_one_line_before_any_file(tmp_path):
     from tests.helpers.cli import assert_one_line_error, softarm
 

@@ -14,6 +14,9 @@ from softarm.config import load_config
 from softarm.record.reader import read_recording
 from softarm.sim.run import simulate
 
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
+
+
 CHECKER = Path(__file__).resolve().parents[3] / "shared" / "tools" / "check_recording.py"  # beside the clone
 KINDS = {
     "product_of_sines": {},

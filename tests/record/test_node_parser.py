@@ -84,6 +84,7 @@ def test_a_recording_reads_the_same_with_and_without_the_parser(recordings, monk
     np.testing.assert_array_equal(fast, slow)
 
 
+@pytest.mark.slow
 def test_damaged_messages_are_read_as_orjson_reads_them_or_left_to_it():
     """Hypothesis damages newline-joined messages (tests/helpers/fuzz.py); whatever the parser accepts must be
     exactly what orjson reads from each line, and both outcomes must occur."""

@@ -20,6 +20,8 @@ from softarm.suite.families import SUITE_VERSION
 from softarm.suite.manifest import read_suite
 from tests.helpers.fuzz import damaged, json_bytes, refused_or_read, reshaped
 
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
+
 
 def fuzz(examples: int, case: Callable[[Any], bool]) -> None:
     """Run `case(data)` on `examples` drawn cases; it returns whether the loader read the file. Both outcomes must

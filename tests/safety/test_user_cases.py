@@ -36,6 +36,7 @@ def ckpt(tiny_checkpoint, tmp_path) -> Path:
     return Path(shutil.copy(tiny_checkpoint.checkpoint, tmp_path / "m.pt"))
 
 
+@pytest.mark.slow
 def test_outputs_never_replace_an_input(rec, ckpt, tmp_path):
     before = digest(rec)
     assert_one_line_error(softarm("replay", "m.pt", "x.mcap", "--mcap", "x.mcap", "--force", cwd=tmp_path),
@@ -48,6 +49,7 @@ def test_outputs_never_replace_an_input(rec, ckpt, tmp_path):
     assert digest(rec) == before and (tmp_path / "m.pt").stat().st_size > 0
 
 
+@pytest.mark.slow
 def test_evaluate_never_replaces_the_suites_own_files(rec, ckpt, tmp_path):
     suite = mini_suite(tmp_path / "suite", rec)
     manifest = (suite / "suite.json").read_text()
@@ -72,6 +74,7 @@ def wait_for(path: Path, process: subprocess.Popen, seconds: float = 60) -> None
         time.sleep(0.02)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", [["sim", "--duration", "30", "--out", "same.mcap", "--force", "-q"],
                                      ["train", "x.mcap", "--out", "same.pt", "--force", *TINY_TRAIN]])
 def test_a_second_run_on_the_same_output_is_refused_and_the_first_finishes_whole(rec, tmp_path, command):
@@ -96,6 +99,7 @@ def test_a_second_run_on_the_same_output_is_refused_and_the_first_finishes_whole
     assert not list(tmp_path.glob(".*.lock")) and not list(tmp_path.glob("*.part"))
 
 
+@pytest.mark.slow
 def test_damaged_checkpoints_and_corpus_manifests_get_one_line(rec, tmp_path):
     # random bytes, opening as a pickle of protocol 83: torch warns of that before it fails, and the user still
     # gets one line
@@ -111,6 +115,7 @@ def test_damaged_checkpoints_and_corpus_manifests_get_one_line(rec, tmp_path):
         assert_one_line_error(softarm("train", "corpus", cwd=tmp_path), "corpus.json", "not a corpus manifest")
 
 
+@pytest.mark.slow
 def test_a_corpus_is_one_only_with_its_manifest_and_force_leaves_nothing_of_the_old_one(tmp_path):
     done = softarm("corpus", "c", "--preset", "paper", "--arms", "3", "--duration", "0.3", "-q", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
@@ -125,6 +130,7 @@ def test_a_corpus_is_one_only_with_its_manifest_and_force_leaves_nothing_of_the_
     assert_one_line_error(softarm("corpus", "d", "--arms", "2", cwd=tmp_path), "--arms 2", "15 group")
 
 
+@pytest.mark.slow
 def test_an_interrupted_forced_training_leaves_no_metrics_of_the_old_run(rec, tmp_path):
     from softarm.config import load_config
     from softarm.learn.run import train
@@ -137,6 +143,7 @@ def test_an_interrupted_forced_training_leaves_no_metrics_of_the_old_run(rec, tm
     assert not stopped.complete and stopped.saved and not first.metrics_path.exists()
 
 
+@pytest.mark.slow
 def test_a_stopped_training_leaves_only_what_it_was_asked_for(recordings, tmp_path):
     folder = tmp_path / "corpus"
     folder.mkdir()
@@ -157,6 +164,7 @@ def test_a_failed_training_leaves_no_folder_it_made(tmp_path):
     assert not (tmp_path / "a").exists()
 
 
+@pytest.mark.slow
 def test_numbers_and_paths_are_checked_up_front(rec, ckpt, tmp_path):
     assert_one_line_error(softarm("train", "x.mcap", "--minutes", "nan", cwd=tmp_path), "--minutes", "finite")
     assert_one_line_error(softarm("sim", "--seed", str(2**70), cwd=tmp_path), "run.seed", "0..4294967295")
@@ -168,6 +176,7 @@ def test_numbers_and_paths_are_checked_up_front(rec, ckpt, tmp_path):
     assert not list(tmp_path.glob("recordings"))
 
 
+@pytest.mark.slow
 def test_resume_names_only_the_settings_asked_for_and_says_minutes_are_ignored(recordings, ckpt, tmp_path):
     shutil.copy(recordings / "s0.mcap", tmp_path / "x.mcap")  # what the tiny checkpoint was trained on
     again = softarm("train", "x.mcap", "--out", "m.pt", "--resume", "--minutes", "3", "-q", cwd=tmp_path)
@@ -198,6 +207,7 @@ def writer_of(process: subprocess.Popen):
     raise AssertionError("no writer process started")
 
 
+@pytest.mark.slow
 def test_a_stuck_writer_ends_the_run_at_its_deadline_with_what_reached_the_disk(tmp_path):
     env = {**os.environ, "SOFTARM_WRITER_DEADLINE": "2"}
     run = subprocess.Popen([SOFTARM, "sim", "--duration", "3000", "--out", "s.mcap", "-q"], cwd=tmp_path, env=env,
@@ -212,6 +222,7 @@ def test_a_stuck_writer_ends_the_run_at_its_deadline_with_what_reached_the_disk(
     assert run.returncode == 1 and "answered nothing for 2 s" in err and len(err.strip().splitlines()) == 1, err
 
 
+@pytest.mark.slow
 def test_a_second_ctrl_c_ends_the_run_at_once(tmp_path):
     run = subprocess.Popen([SOFTARM, "sim", "--duration", "3000", "--out", "s.mcap", "-q"], cwd=tmp_path,
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

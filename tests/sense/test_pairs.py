@@ -35,6 +35,7 @@ def test_three_node_stretch_matches_a_hand_computation():
     np.testing.assert_allclose(readings, [[0.0, 0.0, 0.0], [1.0, 0.0, -1.0]], rtol=0, atol=1e-15)
 
 
+@pytest.mark.slow
 def test_stretch_for_pairs_is_the_simulators_sensor_rule(recording):
     rest, pairs = np.array(recording.model["nodes"]), np.array(recording.model["sensors"])
     positions = recording.positions

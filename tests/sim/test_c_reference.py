@@ -9,6 +9,7 @@ from tests.helpers.runs import assert_batch_equals_single_runs, reference_run
 pytestmark = pytest.mark.skipif(find_compiler() is None, reason="no C compiler (cc or gcc) on PATH")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])  # seed 1 checks the time offset t0 too
 def test_c_reference_matches_the_numpy_reference_over_two_seconds(seed):
     config, batch, expected = reference_run(seed, 200)

@@ -1,10 +1,13 @@
 """The default step is converged: docs/model.md asks < 0.1 mm against a 4x finer run (README has the 100 s study)."""
 
 import numpy as np
+import pytest
 
 from softarm.arm.batch import arm_batch
 from softarm.config import load_config, override
 from softarm.sim.physics import Simulator
+
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
 
 
 def positions(config, substeps: int, n_frames: int) -> np.ndarray:

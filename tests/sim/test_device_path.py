@@ -6,12 +6,15 @@ the results must equal the CPU path's bit for bit.
 """
 
 import numpy as np
+import pytest
 
 from softarm.arm.batch import arm_batch
 from softarm.config import load_config
 from softarm.sim import runtime
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
+
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
 
 
 def run(config, arms: int):

@@ -23,6 +23,7 @@ ONE_OF_EACH = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", list(ONE_OF_EACH))
 def test_every_kind_matches_the_numpy_reference_over_two_seconds(kind):
     config = load_config(overrides={"disturbances": [ONE_OF_EACH[kind]], "excitation.amplitude": 0.006})
@@ -37,6 +38,7 @@ def test_every_kind_matches_the_numpy_reference_over_two_seconds(kind):
     assert np.abs(got - expected).max() < 1e-9
 
 
+@pytest.mark.slow
 def test_a_batch_of_disturbed_and_undisturbed_arms_equals_its_single_arm_runs():
     config = load_config(overrides={"world.random": [
         {"kind": "push", "share": 0.5, "count": [1, 2], "start": [0.1, 0.8], "duration": [0.05, 0.2],
@@ -64,11 +66,13 @@ def settle(body, disturbances, seconds=1.0, frame_dt=1e-3):
     return out
 
 
+@pytest.mark.slow
 def test_a_constant_push_stretches_the_spring_by_force_over_stiffness():
     out = settle(spring(), [Push(0.0, None, (0.0, -0.5), (1,))])
     assert out[-1, 1, 1] == pytest.approx(-REST_LENGTH - 0.5 / STIFFNESS, abs=1e-10)
 
 
+@pytest.mark.slow
 def test_a_payload_hangs_the_mass_lower_and_rings_slower():
     payload = 0.02
     hung = settle(spring(gravity=9.81), [Payload(0.0, None, payload, (1,))])
@@ -79,6 +83,7 @@ def test_a_payload_hangs_the_mass_lower_and_rings_slower():
     assert w_d == pytest.approx(np.sqrt(STIFFNESS / (MASS + payload)) * np.sqrt(1 - zeta ** 2), rel=5e-3)
 
 
+@pytest.mark.slow
 def test_a_softened_spring_rings_at_the_frequency_of_its_stiffness():
     factor = 0.25
     rings = settle(spring(), [Stiffness(0.0, None, factor, (0,)), Push(0.0, 0.001, (0.0, -2.0), (1,))], 0.1, 2e-4)
@@ -89,6 +94,7 @@ def test_a_softened_spring_rings_at_the_frequency_of_its_stiffness():
     assert decay == pytest.approx(expected, rel=2e-2)
 
 
+@pytest.mark.slow
 def test_a_node_pushed_into_a_wall_stops_where_spring_and_contact_balance_the_push():
     wall = -REST_LENGTH - 2e-4  # the wall's surface, 0.2 mm below the mass at rest
     disc = Obstacle(0.0, None, (0.0, wall - 1.0), 1.0, 2000.0, 0.5)  # radius 1 m: flat where the mass meets it

@@ -40,6 +40,7 @@ def test_each_nodes_springs_are_listed_in_the_springs_order_with_their_sign():
     assert entries.tolist() == [1, 3, -1, 2, -2, -3]  # node 0: first end of 0 and 2; node 2: second end of 1, 2
 
 
+@pytest.mark.slow
 def test_the_default_run_steps_the_same_in_both_layouts_and_as_the_numpy_reference():
     config = load_config(overrides={"run.duration": 10.0})
     lanes, gathered = (positions(config, 4, 1000, layout) for layout in ("lanes", "gathered"))
@@ -51,6 +52,7 @@ def test_the_default_run_steps_the_same_in_both_layouts_and_as_the_numpy_referen
     assert np.abs(gathered[2, :200] - reference).max() < 1e-9
 
 
+@pytest.mark.slow
 def test_every_kind_of_disturbance_steps_the_same_in_both_layouts():
     """All four kinds in one run (each acting over its own interval, contact from the start): one kernel compiled
     per layout instead of four."""
@@ -59,6 +61,7 @@ def test_every_kind_of_disturbance_steps_the_same_in_both_layouts():
     assert np.abs(gathered - lanes).max() <= EQUAL
 
 
+@pytest.mark.slow
 def test_commanded_muscles_step_the_same_in_both_layouts():
     config = load_config(overrides={"excitation.amplitude": 0.0})
     muscles = build_muscles(config, arm_batch(config).body)
@@ -68,6 +71,7 @@ def test_commanded_muscles_step_the_same_in_both_layouts():
     assert np.abs(gathered - lanes).max() <= EQUAL
 
 
+@pytest.mark.slow
 def test_a_blow_up_is_found_at_the_same_frame_and_node():
     config = load_config(overrides={"integration.substeps": 2})
     body = build_body(config)  # not arm_batch: its stability check refuses 2 substeps before any blow-up
@@ -84,6 +88,7 @@ def test_a_blow_up_is_found_at_the_same_frame_and_node():
     assert messages[0] == messages[1] and "blew up" in messages[0]
 
 
+@pytest.mark.slow
 def test_a_state_placed_between_blocks_is_where_the_next_block_starts():
     config = load_config()
     runs = []

@@ -10,6 +10,9 @@ from softarm.config import load_config
 from softarm.sim import layout
 from softarm.sim.physics import Simulator
 
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
+
+
 ARMS = 8
 EXCITATIONS = {
     "product_of_sines": {},

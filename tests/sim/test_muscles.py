@@ -22,6 +22,7 @@ def muscled(config, arms=1):
     return batch, muscles, Simulator.from_config(config, batch, muscles=muscles)
 
 
+@pytest.mark.slow
 def test_commanded_muscles_match_the_numpy_reference_frame_by_frame():
     config = load_config(overrides=STILL_TOP)
     batch, muscles, sim = muscled(config)
@@ -40,6 +41,7 @@ def step(sim, command):
     return sim.state()[0][0]
 
 
+@pytest.mark.slow
 def test_an_activation_follows_its_command_as_one_minus_exp_of_t_over_tau():
     config = load_config(overrides=STILL_TOP)
     _, muscles, sim = muscled(config, arms=2)
@@ -63,6 +65,7 @@ def arc(rows: int, width: float, segment: float, contraction: float) -> np.ndarr
     return out.reshape(-1, 2)
 
 
+@pytest.mark.slow
 def test_rest_lengths_that_imply_an_arc_bend_the_arm_onto_it():
     rows, width, length, c = 10, 0.02, 0.09, 0.2
     shape = arc(rows, width, length / (rows - 1), c)

@@ -15,6 +15,7 @@ from tests.helpers.oscillator import REST_LENGTH, STILL, analytic_rates, measure
 from tests.helpers.runs import assert_batch_equals_single_runs, reference_run
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])  # seed 1 checks the time offset t0 (about 51 s) too
 def test_default_arm_matches_the_numpy_reference_over_five_seconds(seed):
     config, batch, expected = reference_run(seed, 500)
@@ -24,6 +25,7 @@ def test_default_arm_matches_the_numpy_reference_over_five_seconds(seed):
     assert np.abs(got - expected).max() < 1e-7
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("direction", [[1.0, 0.0], [0.6, 0.8]])
 def test_a_sum_of_sines_arm_matches_the_numpy_reference_along_any_direction(direction):
     config = load_config(overrides={"excitation.kind": "sum_of_sines", "excitation.direction": direction,
@@ -42,6 +44,7 @@ def test_a_sum_of_sines_arm_matches_the_numpy_reference_along_any_direction(dire
                                                       len(top), 1), atol=1e-15)
 
 
+@pytest.mark.slow
 def test_each_arm_of_a_batch_equals_its_single_arm_run():
     assert_batch_equals_single_runs(Simulator.from_config, tolerance=1e-12)
 

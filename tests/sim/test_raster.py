@@ -181,6 +181,7 @@ def test_ray_cast_reference_fills_a_rectangle_and_a_triangle_by_their_half_plane
 
 # ---- Taichi against the ray cast -----------------------------------------------------------------
 
+@pytest.mark.slow
 def test_arm_frames_match_an_even_odd_ray_cast_from_every_pixel_centre(arm_frames):
     body, history = arm_frames
     images = render(CAMERA, body.outline, history)

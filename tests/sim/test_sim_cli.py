@@ -11,6 +11,7 @@ from softarm.record.reader import read_recording
 from tests.helpers.cli import SOFTARM, assert_one_line_error, files_under, softarm
 
 
+@pytest.mark.slow
 def test_short_run_writes_a_readable_recording_and_a_summary(tmp_path):
     result = softarm("sim", "--duration", "0.5", "--out", "run.mcap", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -22,6 +23,7 @@ def test_short_run_writes_a_readable_recording_and_a_summary(tmp_path):
     assert files_under(tmp_path) == [tmp_path / "run.mcap"]
 
 
+@pytest.mark.slow
 def test_default_output_goes_under_recordings_named_by_seed(tmp_path):
     result = softarm("sim", "--duration", "0.05", "--seed", "3", "--quiet", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -29,12 +31,14 @@ def test_default_output_goes_under_recordings_named_by_seed(tmp_path):
     assert (tmp_path / "recordings" / "seed3.mcap").exists()
 
 
+@pytest.mark.slow
 def test_same_config_and_seed_give_byte_identical_files(tmp_path):
     for name in ("a.mcap", "b.mcap"):
         assert softarm("sim", "--duration", "1", "--seed", "2", "--out", name, "-q", cwd=tmp_path).returncode == 0
     assert (tmp_path / "a.mcap").read_bytes() == (tmp_path / "b.mcap").read_bytes()
 
 
+@pytest.mark.slow
 def test_a_batch_written_by_several_writers_is_byte_identical_run_after_run(tmp_path):
     for folder in ("one", "two"):
         result = softarm("sim", "--duration", "3", "--arms", "3", "--out", f"{folder}/b.mcap", "-q", cwd=tmp_path)
@@ -43,6 +47,7 @@ def test_a_batch_written_by_several_writers_is_byte_identical_run_after_run(tmp_
         assert (tmp_path / "one" / f"b_arm{arm}.mcap").read_bytes() == (tmp_path / "two" / f"b_arm{arm}.mcap").read_bytes()
 
 
+@pytest.mark.slow
 def test_batch_arms_write_one_file_each_equal_to_their_single_seed_runs(tmp_path):
     assert softarm("sim", "--duration", "0.3", "--arms", "2", "--seed", "5", "--out", "b.mcap", "-q",
                    cwd=tmp_path).returncode == 0
@@ -77,6 +82,7 @@ BAD_CONFIGS = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", sorted(BAD_CONFIGS))
 def test_bad_config_is_refused_in_one_line_with_no_file_left(tmp_path, case):
     text, words = BAD_CONFIGS[case]
@@ -96,6 +102,7 @@ BAD_OPTIONS = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", sorted(BAD_OPTIONS))
 def test_bad_option_is_refused_in_one_line_with_no_file_left(tmp_path, case):
     args, words = BAD_OPTIONS[case]
@@ -104,6 +111,7 @@ def test_bad_option_is_refused_in_one_line_with_no_file_left(tmp_path, case):
     assert files_under(tmp_path) == []
 
 
+@pytest.mark.slow
 def test_existing_output_is_kept_unless_forced(tmp_path):
     (tmp_path / "x.mcap").write_text("precious")
     assert_one_line_error(softarm("sim", "--duration", "0.1", "--out", "x.mcap", cwd=tmp_path), "exists", "--force")
@@ -118,6 +126,7 @@ def test_output_whose_parent_is_a_file_is_refused(tmp_path):
     assert_one_line_error(result, "afile", "not a folder")
 
 
+@pytest.mark.slow
 def test_ctrl_c_keeps_every_frame_so_far_in_a_closed_file(tmp_path):
     proc = subprocess.Popen([SOFTARM, "sim", "--duration", "100", "--out", "run.mcap", "--quiet"], cwd=tmp_path,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -136,6 +145,7 @@ def test_ctrl_c_keeps_every_frame_so_far_in_a_closed_file(tmp_path):
     assert not part.exists()
 
 
+@pytest.mark.slow
 def test_arch_gpu_runs_on_a_gpu_or_says_in_one_line_that_there_is_none(tmp_path):
     result = softarm("sim", "--arch", "gpu", "--duration", "0.1", "--out", "g.mcap", "-q", cwd=tmp_path)
     if result.returncode == 0:  # a machine with a CUDA GPU
@@ -145,6 +155,7 @@ def test_arch_gpu_runs_on_a_gpu_or_says_in_one_line_that_there_is_none(tmp_path)
         assert files_under(tmp_path) == []
 
 
+@pytest.mark.slow
 def test_arch_auto_falls_back_to_the_cpu(tmp_path):
     result = softarm("sim", "--arch", "auto", "--duration", "0.1", "--out", "a.mcap", "-q", cwd=tmp_path)
     assert result.returncode == 0, result.stderr

@@ -89,6 +89,7 @@ def test_a_bad_study_file_is_refused_in_one_line_naming_the_key(tmp_path, edit, 
     assert "\n" not in message and all(word in message for word in words), message
 
 
+@pytest.mark.slow
 def test_the_cli_refuses_a_bad_study_before_any_work(tmp_path):
     (tmp_path / "bad.toml").write_text(GOOD.replace("variable =", "varable =", 1))
     assert_one_line_error(softarm("study", "bad.toml", "--out", "s", cwd=tmp_path), "unknown key 'varable'")

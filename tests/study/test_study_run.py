@@ -21,6 +21,9 @@ from softarm.study.scale import Scale
 from softarm.suite.families import SUITE_VERSION
 
 # Seconds of training on 2 arms x 4 s of the paper's drive; scored on two 2 s recordings.
+pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
+
+
 TINY = Scale("tiny", "paper", 2, 4.0, {"train.latent": 8, "train.lstm_hidden": 32, "train.batch_ae": 32,
                                        "train.max_steps_ae": 40, "train.max_steps_lstm": 60},
              first_recording_only=True)

@@ -39,6 +39,7 @@ def test_at_least_six_families_each_at_two_levels_from_reserved_seeds():
     assert any(level.sensing for f in FAMILIES for level in f.levels)  # a case with sensor noise
 
 
+@pytest.mark.slow
 def test_the_suite_keeps_every_arm_in_view_and_uses_only_its_seeds(suite_folder):
     suite = read_suite(suite_folder)
     assert suite.version == SUITE_VERSION and suite.families == [f.name for f in FAMILIES]
@@ -56,6 +57,7 @@ def test_the_suite_keeps_every_arm_in_view_and_uses_only_its_seeds(suite_folder)
     assert sorted(p.name for p in suite_folder.glob("*.mcap")) == sorted(c.path.name for c in suite.cases)
 
 
+@pytest.mark.slow
 def test_a_level_simulated_again_gives_the_same_files_and_a_written_suite_is_refused(suite_folder, tmp_path):
     """The same softarm writes the same bytes: one level re-simulated as `softarm suite` runs it (the whole suite
     again would double this file's time)."""
@@ -90,6 +92,7 @@ def small_suite(suite_folder, tmp_path_factory):
     return part_of_suite(suite_folder, tmp_path_factory.mktemp("small"), ("paper_amplitude", "sensor_noise", "push"))
 
 
+@pytest.mark.slow
 def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, tiny_checkpoint, tmp_path):
     result = softarm("evaluate", str(tiny_checkpoint.checkpoint), str(small_suite), "--json", "e.json", "--png", "e.png",
                      "--trust-png", "t.png", cwd=tmp_path, timeout=300)
@@ -119,6 +122,7 @@ def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, 
         assert (tmp_path / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+@pytest.mark.slow
 def test_sensor_noise_reaches_the_stretch_answers_and_nothing_else(suite_folder, tiny_checkpoint, tmp_path):
     from softarm.suite.evaluate import evaluate_suite
 
@@ -137,6 +141,7 @@ def test_evaluate_refuses_a_folder_without_a_suite(tiny_checkpoint, tmp_path):
     assert not (tmp_path / "e.json").exists()
 
 
+@pytest.mark.slow
 def test_training_refuses_a_recording_of_the_suite(suite_folder, tmp_path):
     held_out = read_suite(suite_folder).cases[0].path
     result = softarm("train", str(held_out), "--out", "x.pt", cwd=tmp_path)
@@ -144,6 +149,7 @@ def test_training_refuses_a_recording_of_the_suite(suite_folder, tmp_path):
     assert not (tmp_path / "x.pt").exists()
 
 
+@pytest.mark.slow
 def test_ctrl_c_stops_the_suite_without_a_manifest(tmp_path):
     import signal
     import subprocess
