@@ -10,12 +10,12 @@ from typing import Optional, Sequence
 import numpy as np
 
 from softarm.arm.body import Body, build_body
-from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive, drive_for_seed
-from softarm.arm.places import Places
 from softarm.arm.statics import check_step, hanging_equilibrium, initial_state
-from softarm.arm.world import check_world, resolve
 from softarm.config import Config
+from softarm.disturbances import Disturbance
+from softarm.disturbances.places import Places
+from softarm.disturbances.resolve import check_world, resolve
 
 
 @dataclass(frozen=True)

@@ -10,9 +10,9 @@ from typing import Optional, Sequence
 import numpy as np
 
 from softarm.arm.body import Body
-from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive
 from softarm.arm.muscles import Muscles
+from softarm.disturbances import Disturbance
 
 
 def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velocities: np.ndarray,

@@ -9,9 +9,9 @@ from typing import Sequence
 import numpy as np
 
 from softarm.arm.body import Body
-from softarm.arm.disturbances import Disturbance, Obstacle
 from softarm.arm.drive import Drive
 from softarm.config import Config
+from softarm.disturbances import Disturbance
 from softarm.errors import ConfigError
 
 
@@ -75,8 +75,8 @@ def max_stable_substep(body: Body, disturbances: Sequence[Disturbance] = ()) -> 
     h^2 w^2 + 2 g h < 4. Gershgorin bounds w^2 by max_i 2 sum(k)/m_i and g by max_i 2 sum(b)/m_i
     over the springs touching each free node; the bound is safe, not tight. With disturbances it holds
     for the stiffest moment: every stiffening at once (softening and payloads only make the step safer)
-    and every obstacle's contact on every node (stiffness k_c and damping b_c on its own, as a spring to
-    a fixed point).
+    and what every disturbance may add on every node (an obstacle's contact stiffness and damping, a drag's
+    damping toward the water: `Disturbance.stability`, as a spring to a fixed point).
     """
     free = body.free
     stiffness = body.stiffness * np.prod([np.maximum(1.0, d.stiffness_factor(len(body.springs))) for d in disturbances]
@@ -86,9 +86,9 @@ def max_stable_substep(body: Body, disturbances: Sequence[Disturbance] = ()) -> 
     for col in (0, 1):
         np.add.at(k_sum, body.springs[:, col], stiffness)
         np.add.at(b_sum, body.springs[:, col], body.damping)
-    contacts = [d for d in disturbances if isinstance(d, Obstacle)]
-    w2 = np.max((2 * k_sum[free] + sum(2 * d.stiffness for d in contacts)) / body.masses[free])
-    g = np.max((2 * b_sum[free] + sum(2 * d.damping for d in contacts)) / body.masses[free])
+    holds = [d.stability() for d in disturbances]
+    w2 = np.max((2 * k_sum[free] + sum(2 * k for k, _ in holds)) / body.masses[free])
+    g = np.max((2 * b_sum[free] + sum(2 * b for _, b in holds)) / body.masses[free])
     return float((-2 * g + np.sqrt(4 * g * g + 16 * w2)) / (2 * w2))
 
 

@@ -3,7 +3,7 @@ documentation's config reference prints them, so the two cannot disagree.
 
 The meaning of each key lives in `default.toml`'s comments (what `softarm config` prints); the value in its
 assignment. Keys of the array tables (`[[disturbances]]`, `[[world.random]]`, `[[muscles.groups]]`) are named
-`table[].key`; their checks need the body and live with the body (`softarm.arm.world`, `softarm.arm.muscles`).
+`table[].key`; their checks need the body and live with the body (`softarm.disturbances.resolve`, `softarm.arm.muscles`).
 """
 
 from dataclasses import dataclass
@@ -72,7 +72,7 @@ ONE_OR_MORE = at_least(1)
 
 KEYS: dict[str, Key] = {
     "disturbances": Key(meaning="The world acting on the body: a list of [[disturbances]] tables."),
-    "disturbances[].kind": Key(meaning="push, payload, stiffness or obstacle (docs/model.md, Disturbances)."),
+    "disturbances[].kind": Key(meaning="push, payload, stiffness, obstacle or drag (docs/model.md, Disturbances)."),
     "disturbances[].start": Key("s", meaning="Run time from which it acts."),
     "disturbances[].end": Key("s", meaning="Run time at which it stops acting; leave it out for the end of the run."),
     "disturbances[].force": Key("N", meaning="push: [Fx, Fy] on each of its nodes."),
@@ -84,6 +84,9 @@ KEYS: dict[str, Key] = {
     "disturbances[].radius": Key("m", meaning="obstacle: the disc's radius."),
     "disturbances[].stiffness": Key("N/m", meaning="obstacle: its contact stiffness (default: world.contact_stiffness)."),
     "disturbances[].damping": Key("N s/m", meaning="obstacle: its contact damping (default: world.contact_damping)."),
+    "disturbances[].velocity": Key("m/s", meaning="drag: [ux, uy] of the water's current (default [0, 0]: still)."),
+    "disturbances[].coefficient": Key("N s/m", meaning="drag: c of the linear (Stokes) drag on every free node."),
+    "disturbances[].quadratic": Key("N s^2/m^2", meaning="drag: c2 of the quadratic (form) drag (default 0)."),
     "body.rows": Key(rule=Rule("must be at least 2 (one driven row and one free row)", lambda v: v >= 2)),
     "body.columns": Key(rule=Rule("must be at least 2", lambda v: v >= 2)),
     "body.length": Key("m", POSITIVE),
@@ -135,11 +138,11 @@ KEYS: dict[str, Key] = {
     "world.contact_damping": Key("N s/m", NON_NEGATIVE),
     "world.random": Key(meaning="Random disturbances every arm draws from its seed: a list of [[world.random]] "
                                 "tables."),
-    "world.random[].kind": Key(meaning="push, payload, stiffness or obstacle."),
+    "world.random[].kind": Key(meaning="push, payload, stiffness, obstacle or drag."),
     "world.random[].share": Key(meaning="Share of the arms that draw any of this kind, 0..1."),
     "world.random[].count": Key(meaning="[min, max] disturbances of this kind an arm draws."),
     "world.random[].start": Key("s", meaning="[min, max] of their start times."),
-    "world.random[].rows": Key(meaning="[first, last] body rows they reach."),
+    "world.random[].rows": Key(meaning="push, payload, stiffness, obstacle: [first, last] body rows they reach."),
     "world.random[].duration": Key("s", meaning="[min, max] of how long each acts; leave it out for lasting ones."),
     "world.random[].force": Key("N", meaning="push: [min, max] force per node, in a random direction, on one row."),
     "world.random[].mass": Key("kg", meaning="payload: [min, max] mass per node of one row."),
@@ -148,6 +151,10 @@ KEYS: dict[str, Key] = {
     "world.random[].radius": Key("m", meaning="obstacle: [min, max] of the disc's radius."),
     "world.random[].gap": Key("m", meaning="obstacle: [min, max] gap from the arm's resting edge at a row, on a "
                                            "random side."),
+    "world.random[].speed": Key("m/s", meaning="drag: [min, max] speed of the current, in a random direction."),
+    "world.random[].coefficient": Key("N s/m", meaning="drag: [min, max] of the linear drag coefficient c."),
+    "world.random[].quadratic": Key("N s^2/m^2", meaning="drag: [min, max] of the quadratic coefficient c2 "
+                                                         "(default 0)."),
     "muscles.time_constant": Key("s", above(0, " s")),
     "muscles.groups": Key(meaning="The muscle groups: a list of [[muscles.groups]] tables."),
     "muscles.groups[].name": Key(),

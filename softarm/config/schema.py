@@ -105,6 +105,9 @@ class DisturbanceConfig:
     radius: Union[float, None] = None
     stiffness: Union[float, None] = None
     damping: Union[float, None] = None
+    velocity: Union[tuple[float, float], None] = None
+    coefficient: Union[float, None] = None
+    quadratic: Union[float, None] = None
 
 
 @dataclass(frozen=True)
@@ -114,7 +117,7 @@ class RandomDisturbanceConfig:
     share: float
     count: tuple[int, int]
     start: tuple[float, float]
-    rows: tuple[int, int]
+    rows: Union[tuple[int, int], None] = None
     duration: Union[tuple[float, float], None] = None
     force: Union[tuple[float, float], None] = None
     mass: Union[tuple[float, float], None] = None
@@ -122,6 +125,9 @@ class RandomDisturbanceConfig:
     span: Union[int, None] = None
     radius: Union[tuple[float, float], None] = None
     gap: Union[tuple[float, float], None] = None
+    speed: Union[tuple[float, float], None] = None
+    coefficient: Union[tuple[float, float], None] = None
+    quadratic: Union[tuple[float, float], None] = None
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,7 @@ rewritten at each of the arm's episode starts with the push its task drew, its w
 
 import numpy as np
 
-from softarm.arm.disturbances import Push
+from softarm.disturbances import Push
 from softarm.envs.tasks import Hold
 from softarm.sim.physics import Simulator
 

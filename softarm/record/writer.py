@@ -14,9 +14,9 @@ import orjson
 from softarm import __version__
 from softarm.arm.body import Body
 from softarm.arm.camera import world_to_pixel
-from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import Drive
 from softarm.config import Config
+from softarm.disturbances import Disturbance
 from softarm.record.format import (
     ACTIVATION,
     ACTIVATION_SCHEMA,

@@ -9,9 +9,9 @@ arithmetic is exactly that of an arm stepped alone.
 
 import taichi as ti
 
+from softarm.disturbances.slots import active_kinds, free_node_force, node_load, spring_factor
 from softarm.sim.drive_kernels import product_of_sines, sum_of_sines
 from softarm.sim.muscle_fields import rest_scale
-from softarm.sim.world import active_kinds, contact, node_load, spring_factor
 
 
 @ti.func
@@ -21,22 +21,23 @@ def accumulate_forces(base: int, lanes: ti.template(), t: ti.f64, x: ti.template
                       world: ti.template(), disturbed: ti.template(), muscles: ti.template(), muscled: ti.template()):
     """force[a] = gravity + every spring and damper (docs/model.md, Forces) for the group's arms a;
     spring_params[s] = (L0, k, b). With `disturbed` (a compile-time switch), also every disturbance active at run
-    time t: payloads add to inertia[a] and the weight, pushes and contacts to the force, stiffness changes scale k.
+    time t: loads add to inertia[a], the weight and the force, forces on free nodes (contact, drag) to the force,
+    stiffness changes scale k.
     With `muscled` (likewise), each muscle's activation shortens its springs' rest lengths."""
     g = ti.Vector([gx, gy], ti.f64)
     bits = ti.Vector([0] * lanes, ti.i32)
     if ti.static(disturbed):
         for w in ti.static(range(lanes)):
-            bits[w] = active_kinds(base + w, t, world.codes, world.windows)
+            bits[w] = active_kinds(base + w, t, world)
     for i in range(x.shape[1]):
         for w in ti.static(range(lanes)):
             a = base + w
             if ti.static(disturbed):
-                load = node_load(a, i, t, bits[w], world.codes, world.windows, world.params, world.nodes)
+                load = node_load(a, i, t, bits[w], world)
                 inertia[a, i] = mass[i] + load[0]
                 force[a, i] = inertia[a, i] * g + ti.Vector([load[1], load[2]], ti.f64)
                 if free[i]:
-                    force[a, i] += contact(a, t, x[a, i], v[a, i], bits[w], world.codes, world.windows, world.params)
+                    force[a, i] += free_node_force(a, t, x[a, i], v[a, i], bits[w], world)
             else:
                 force[a, i] = mass[i] * g
     for s in range(springs.shape[0]):
@@ -49,7 +50,7 @@ def accumulate_forces(base: int, lanes: ti.template(), t: ti.f64, x: ti.template
             u = d * (1.0 / length)
             k = params[1]
             if ti.static(disturbed):
-                k *= spring_factor(a, s, t, bits[w], world.codes, world.windows, world.params, world.springs)
+                k *= spring_factor(a, s, t, bits[w], world)
             rest_length = params[0]
             if ti.static(muscled):
                 rest_length *= rest_scale(a, s, muscles)

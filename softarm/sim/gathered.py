@@ -15,9 +15,9 @@ arithmetic for half the memory traffic, the trade a GPU wants.
 import numpy as np
 import taichi as ti
 
+from softarm.disturbances.slots import active_kinds, free_node_force, node_load, spring_factor
 from softarm.sim.forces import drive_at, first_far_node
 from softarm.sim.muscle_fields import relax, rest_scale
-from softarm.sim.world import active_kinds, contact, node_load, spring_factor
 
 
 def incident_springs(springs: np.ndarray, nodes: int) -> tuple[np.ndarray, np.ndarray]:
@@ -42,7 +42,7 @@ def spring_force(a: int, s: int, t: ti.f64, bits: int, x: ti.template(), v: ti.t
     u = d * (1.0 / length)
     k = params[1]
     if ti.static(disturbed):
-        k *= spring_factor(a, s, t, bits, sim.world.codes, sim.world.windows, sim.world.params, sim.world.springs)
+        k *= spring_factor(a, s, t, bits, sim.world)
     rest_length = params[0]
     if ti.static(muscled):
         rest_length *= rest_scale(a, s, sim.actuators)
@@ -62,7 +62,7 @@ def gathered_substep(a: int, step: int, substeps: int, frame_dt: ti.f64, h: ti.f
         relax(a, decay, sim.actuators)
     bits = 0
     if ti.static(disturbed):
-        bits = active_kinds(a, now, sim.world.codes, sim.world.windows)
+        bits = active_kinds(a, now, sim.world)
     drive = drive_at(a, t + sim.time_offset[a], kind, sim.amplitude, sim.freqs, sim.amps, sim.phases)
     e = sim.direction[None]
     g = ti.Vector([gx, gy], ti.f64)
@@ -71,10 +71,10 @@ def gathered_substep(a: int, step: int, substeps: int, frame_dt: ti.f64, h: ti.f
             inertia = sim.mass[i]
             f = inertia * g
             if ti.static(disturbed):
-                load = node_load(a, i, now, bits, sim.world.codes, sim.world.windows, sim.world.params, sim.world.nodes)
+                load = node_load(a, i, now, bits, sim.world)
                 inertia = sim.mass[i] + load[0]
                 f = inertia * g + ti.Vector([load[1], load[2]], ti.f64)
-                f += contact(a, now, x[a, i], v[a, i], bits, sim.world.codes, sim.world.windows, sim.world.params)
+                f += free_node_force(a, now, x[a, i], v[a, i], bits, sim.world)
             for k in range(sim.incident_start[i], sim.incident_start[i + 1]):
                 entry = sim.incident[k]
                 if entry > 0:

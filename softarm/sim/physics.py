@@ -16,10 +16,11 @@ import taichi as ti
 
 from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.body import Body
-from softarm.arm.disturbances import Disturbance
 from softarm.arm.drive import KIND_CODES, Drive
 from softarm.arm.muscles import Muscles
 from softarm.config import Config
+from softarm.disturbances import Disturbance
+from softarm.disturbances.slots import WorldFields, pack
 from softarm.sim.capacity import check_physics, raise_on_blowup
 from softarm.sim.exchange import Exchange
 from softarm.sim.forces import accumulate_forces, first_far_node, substep
@@ -28,7 +29,6 @@ from softarm.sim.layout import chosen_layout, place_incidence, place_state
 from softarm.sim.load import load
 from softarm.sim.muscle_fields import MuscleFields, relax
 from softarm.sim.runtime import device_array, host, on_cpu, task_layout, upload
-from softarm.sim.world import WorldFields, pack
 
 f64nd = ti.types.ndarray(dtype=ti.f64, ndim=4)
 i32nd = ti.types.ndarray(dtype=ti.i32, ndim=2)

@@ -11,11 +11,11 @@ from mcap.reader import make_reader
 
 import softarm.envs  # noqa: F401
 from softarm.arm.body import build_body
-from softarm.arm.disturbances import Push
 from softarm.arm.drive import Drive
 from softarm.arm.muscles import Muscles
 from softarm.arm.reference import simulate_reference
 from softarm.config import config_from_dict, load_config
+from softarm.disturbances import Push
 from softarm.envs.record import RecordEpisodes
 from softarm.record.reader import read_recording
 from tests.helpers.cli import assert_one_line_error

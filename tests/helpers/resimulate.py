@@ -69,6 +69,9 @@ def resimulate(model: dict[str, Any], frames: int) -> np.ndarray:
                 depth = d["radius"] - distance[inside]
                 push_out = np.maximum(0.0, d["stiffness"] * depth - d["damping"] * np.einsum("nk,nk->n", v[free][inside], normal))
                 force[free[inside]] += push_out[:, None] * normal
+            elif d["kind"] == "drag":  # F = (c + c2 |w|) w, w = u - v, on every free node
+                w = np.array(d["velocity"], float) - v[free]
+                force[free] += (d["coefficient"] + d.get("quadratic", 0.0) * np.hypot(w[:, 0], w[:, 1]))[:, None] * w
         v[free] += h * force[free] / mass[free, None]
         x[free] += h * v[free]
         tau = (frame * n + sub + 1) / n * dt + t0

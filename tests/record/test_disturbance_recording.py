@@ -16,8 +16,10 @@ from tests.sim.test_disturbances import ONE_OF_EACH
 
 DRAWN = {"kind": "push", "share": 1.0, "count": [2, 3], "start": [0.2, 1.6], "duration": [0.05, 0.2],
          "force": [0.05, 0.3], "rows": [9, 18]}
+CURRENT = {"kind": "drag", "share": 1.0, "count": [1, 2], "start": [0.3, 1.2], "duration": [0.2, 0.6],
+           "speed": [0.02, 0.08], "coefficient": [0.01, 0.03], "quadratic": [0.1, 0.3]}
 CASES = {**{kind: {"disturbances": [table]} for kind, table in ONE_OF_EACH.items()},
-         "drawn": {"world.random": [DRAWN]},
+         "drawn": {"world.random": [DRAWN, CURRENT]},
          "all at once": {"disturbances": list(ONE_OF_EACH.values()), "world.random": [DRAWN]}}
 
 
@@ -28,7 +30,7 @@ def test_every_kind_records_re_simulates_from_its_metadata_and_passes_the_checke
     simulate(config, tmp_path / "r.mcap")
     rec = read_recording(tmp_path / "r.mcap")
     listed = rec.model["disturbances"]
-    assert listed and all(d["kind"] in ("push", "payload", "stiffness", "obstacle") for d in listed)
+    assert listed and all(d["kind"] in ("push", "payload", "stiffness", "obstacle", "drag") for d in listed)
     for d, entry in enumerate(listed):  # the channel names exactly the frames inside each interval
         inside = (rec.times >= entry["start"]) & ((rec.times < entry["end"]) if entry["end"] is not None else True)
         assert np.array_equal(rec.active[:, d], inside)

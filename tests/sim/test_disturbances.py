@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from softarm.arm.batch import arm_batch
-from softarm.arm.disturbances import Obstacle, Payload, Push, Stiffness
 from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
+from softarm.disturbances import Drag, Obstacle, Payload, Push, Stiffness
 from softarm.errors import ConfigError
 from softarm.sim.physics import Simulator
 from tests.helpers.oscillator import MASS, REST_LENGTH, STIFFNESS, STILL, analytic_rates, measured_rates, one_spring
@@ -20,6 +20,7 @@ ONE_OF_EACH = {
     "payload": {"kind": "payload", "start": 0.6013, "mass": 0.02, "nodes": TIP},
     "stiffness": {"kind": "stiffness", "start": 0.2013, "end": 1.5013, "factor": 0.3, "springs": list(range(40, 60))},
     "obstacle": {"kind": "obstacle", "start": 0.0, "centre": [0.035, -0.15], "radius": 0.02},
+    "drag": {"kind": "drag", "start": 0.1013, "velocity": [0.05, 0.01], "coefficient": 0.02, "quadratic": 0.3},
 }
 
 
@@ -103,6 +104,25 @@ def test_a_node_pushed_into_a_wall_stops_where_spring_and_contact_balance_the_pu
     assert out[-1, 1, 1] == pytest.approx(wall - depth, abs=1e-10)
 
 
+@pytest.mark.slow
+def test_a_current_holds_the_mass_where_the_spring_balances_the_drag():
+    """Along the spring's line, a current u = 0.3 m/s pulls the still mass with (c + c2 |u|) u: linear and
+    quadratic terms both count, and the spring stretches by that over k."""
+    c, c2, u = 0.02, 0.1, 0.3
+    out = settle(spring(), [Drag(0.0, None, (0.0, -u), c, c2)], seconds=2.0)
+    assert out[-1, 1, 1] == pytest.approx(-REST_LENGTH - (c + c2 * u) * u / STIFFNESS, abs=1e-10)
+
+
+@pytest.mark.slow
+def test_still_water_damps_the_ring_by_the_drag_coefficient():
+    """Linear drag in still water is a damper to a fixed point: the decay rate b / 2m becomes (b + c) / 2m."""
+    c = 0.6
+    rings = settle(spring(), [Drag(0.0, None, (0.0, 0.0), c, 0.0), Push(0.0, 0.001, (0.0, -2.0), (1,))], 0.1, 2e-4)
+    w_d, decay = measured_rates(np.arange(len(rings)) * 2e-4, rings[:, 1, 1] + REST_LENGTH)
+    assert decay == pytest.approx(analytic_rates(0.9 + c)[1], rel=2e-2)
+    assert w_d == pytest.approx(analytic_rates(0.9 + c)[0], rel=5e-3)
+
+
 def test_contact_and_stiffening_lower_the_stable_step():
     stiff = {"kind": "obstacle", "start": 0.0, "centre": [0.05, -0.1], "radius": 0.01, "stiffness": 2e6}
     with pytest.raises(ConfigError, match="integration.substeps.*disturbances"):
@@ -121,3 +141,24 @@ def test_a_batch_checks_each_arm_with_its_own_disturbances():
     stiff = {**disc, "stiffness": 2e6}
     with pytest.raises(ConfigError, match="integration.substeps"):
         arm_batch(load_config(overrides={"disturbances": [stiff]}), seeds=range(64))
+
+
+def test_a_drag_is_refused_in_one_line_naming_its_key():
+    def refused(overrides: dict, key: str, words: str) -> None:
+        with pytest.raises(ConfigError, match=f"{key}.*{words}"):
+            arm_batch(load_config(overrides=overrides))
+
+    water = {"kind": "drag", "start": 0.0, "coefficient": 0.02}
+    refused({"disturbances": [{**water, "coefficient": -0.1}]}, r"disturbances\[0\].coefficient", ">= 0")
+    refused({"disturbances": [{**water, "quadratic": -1.0}]}, r"disturbances\[0\].quadratic", ">= 0")
+    refused({"disturbances": [{**water, "nodes": [55]}]}, r"disturbances\[0\].nodes", "a drag takes")
+    refused({"disturbances": [{"kind": "drag", "start": 0.0}]}, r"disturbances\[0\].coefficient", "missing")
+    current = {"kind": "drag", "share": 1.0, "count": [1, 1], "start": [0.0, 1.0], "speed": [0.0, 0.1],
+               "coefficient": [0.01, 0.02]}
+    refused({"world.random": [{**current, "rows": [3, 5]}]}, r"world.random\[0\].rows", "a random drag takes")
+    refused({"world.random": [{**current, "speed": [0.2, 0.1]}]}, r"world.random\[0\].speed", "min <= max")
+    poke = {"kind": "push", "share": 1.0, "count": [1, 1], "start": [0.0, 1.0], "force": [0.01, 0.02]}
+    refused({"world.random": [poke]}, r"world.random\[0\].rows", "missing")
+    drawn = arm_batch(load_config(overrides={"world.random": [current], "run.arms": 2})).disturbances
+    assert all(len(arm) == 1 and isinstance(arm[0], Drag) and 0 <= np.hypot(*arm[0].velocity) <= 0.1
+               and 0.01 <= arm[0].coefficient <= 0.02 and arm[0].quadratic == 0.0 for arm in drawn)

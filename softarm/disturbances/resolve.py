@@ -6,14 +6,13 @@ from typing import Any
 
 import numpy as np
 
-from softarm.arm.disturbances import KINDS, Disturbance
-from softarm.arm.places import Places
 from softarm.config import Config, DisturbanceConfig, RandomDisturbanceConfig
+from softarm.disturbances import KINDS, Disturbance
+from softarm.disturbances.places import Places
 
 STREAM = 20_170_613  # the draws' own random stream, apart from the drive's (the seed alone) and the sensing's
-PARAMETERS = ("force", "nodes", "mass", "factor", "springs", "centre", "radius", "stiffness", "damping")
-OPTIONAL = {"obstacle": ("stiffness", "damping")}          # default: [world] contact_*
-RANGES = {"push": ("force",), "payload": ("mass",), "stiffness": ("factor",), "obstacle": ("radius", "gap")}
+PARAMETERS = tuple(dict.fromkeys(key for kind in KINDS.values() for key in kind.keys))  # every kind's table keys
+DRAWN_BY = tuple(dict.fromkeys(key for kind in KINDS.values() for key in (*kind.drawn_by, *kind.drawn_optional)))
 
 
 def resolve(config: Config, places: Places, seed: int) -> list[Disturbance]:
@@ -44,7 +43,7 @@ def from_table(table: DisturbanceConfig, places: Places) -> Disturbance:
     places.require(not foreign, foreign[0] if foreign else "kind", getattr(table, foreign[0]) if foreign else None,
                    f"a {cls.kind} takes {', '.join(cls.keys)}")
     for name in cls.keys:
-        if name not in OPTIONAL.get(cls.kind, ()):
+        if name not in cls.optional:
             places.present(name, getattr(table, name), f"a {cls.kind} takes {', '.join(cls.keys)}")
     places.require(table.start >= 0, "start", table.start, "must be >= 0 (s from the run's first frame)")
     places.require(table.end is None or table.end > table.start, "end", table.end,
@@ -54,22 +53,25 @@ def from_table(table: DisturbanceConfig, places: Places) -> Disturbance:
 
 def check_spec(spec: RandomDisturbanceConfig, places: Places) -> None:
     cls = kind(spec.kind, places)
+    takes = f"a random {cls.kind} takes count, start, {', '.join(cls.drawn_by)}"
+    foreign = [name for name in DRAWN_BY if getattr(spec, name) is not None
+               and name not in (*cls.drawn_by, *cls.drawn_optional)]
+    places.require(not foreign, foreign[0] if foreign else "kind", getattr(spec, foreign[0]) if foreign else None,
+                   takes + (f" (and optionally {', '.join(cls.drawn_optional)})" if cls.drawn_optional else ""))
     places.require(0 <= spec.share <= 1, "share", spec.share, "must be in [0, 1]")
-    for name in ("count", "start", "rows", "duration", *RANGES[cls.kind]):
+    for name in ("count", "start", "duration", *cls.drawn_by, *cls.drawn_optional):
         value = getattr(spec, name)
-        if name != "duration":
-            places.present(name, value, f"a random {cls.kind} takes count, start, rows and {', '.join(RANGES[cls.kind])}")
-        places.require(value is None or (0 <= value[0] <= value[1]), name, None if value is None else list(value),
-                       "must be [min, max] with 0 <= min <= max")
+        if name in ("count", "start", *cls.drawn_by):
+            places.present(name, value, takes)
+        if name != "span":
+            places.require(value is None or (0 <= value[0] <= value[1]), name, None if value is None else list(value),
+                           "must be [min, max] with 0 <= min <= max")
     places.require(spec.duration is None or spec.duration[0] > 0, "duration", spec.duration,
                    "must be longer than 0 s (leave it out: lasting to the end)")
-    places.row(spec.rows[1])  # both ends are rows of the body
-    places.row(spec.rows[0])
-    if cls.kind == "stiffness":
-        places.require(spec.factor[0] > 0, "factor", list(spec.factor), "factors must be > 0")
-        places.segment(spec.rows[1], spec.span or 2)
-    if cls.kind == "obstacle":
-        places.require(spec.radius[0] > 0, "radius", list(spec.radius), "radii must be > 0")
+    if spec.rows is not None:
+        places.row(spec.rows[1])  # both ends are rows of the body
+        places.row(spec.rows[0])
+    cls.check_spec(spec, places)
 
 
 def draw(spec: RandomDisturbanceConfig, rng: np.random.Generator, places: Places) -> list[Disturbance]:
