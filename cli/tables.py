@@ -101,9 +101,8 @@ def surprise_lines(report: Optional[dict[str, Any]]) -> list[str]:
 
 
 def touching(row: dict[str, Any]) -> str:
-    """Where an obstacle stands: the AUROC against the frames the arm touches it in, and the bounds the label sets."""
-    if "auroc_touching" not in row:
+    """Where an obstacle stands (scored against the touches): the AUROC against its whole interval beside them."""
+    if "auroc_present" not in row:
         return ""
-    return (f" ({row['auroc_touching']:.2f} against the {row['touching_share']:.0%} of frames touching; a surprise "
-            f"feeling exactly the touches would reach {row['auroc_touch_only']:.2f}, its first alarm "
-            f"{row['first_touch_ms']:.0f} ms after the onset)")
+    return (f" against the touches ({row['auroc_present']:.2f} against the obstacle standing there, touched in "
+            f"{row['touching_share']:.0%} of its frames, first {row['first_touch_ms']:.0f} ms after its onset)")

@@ -5,7 +5,7 @@ exactly the arm a real run would record.
 """
 
 from dataclasses import dataclass
-from typing import Optional, Sequence
+from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 
@@ -13,9 +13,9 @@ from softarm.arm.body import Body, build_body
 from softarm.arm.drive import Drive, drive_for_seed
 from softarm.arm.statics import check_step, hanging_equilibrium, initial_state
 from softarm.config import Config
-from softarm.disturbances import Disturbance
-from softarm.disturbances.places import Places
-from softarm.disturbances.resolve import check_world, resolve
+
+if TYPE_CHECKING:  # the disturbances carry their kernel code: Taichi loads when a batch is built, not on import
+    from softarm.disturbances import Disturbance
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,7 @@ class ArmBatch:
     drives: list[Drive]
     positions: np.ndarray   # (arms, N, 2) at t = 0, m
     velocities: np.ndarray  # (arms, N, 2) at t = 0, m/s
-    disturbances: list[list[Disturbance]]  # each arm's, in the order its recording lists them
+    disturbances: list[list["Disturbance"]]  # each arm's, in the order its recording lists them
 
     @property
     def arms(self) -> int:
@@ -39,6 +39,9 @@ def arm_batch(config: Config, seeds: Optional[Sequence[int]] = None) -> ArmBatch
     seeds = list(seeds) if seeds is not None else [config.run.seed + i for i in range(config.run.arms)]
     drives = [drive_for_seed(config.excitation, s) for s in seeds]
     hanging = hanging_equilibrium(body)
+    from softarm.disturbances.places import Places
+    from softarm.disturbances.resolve import check_world, resolve
+
     places = Places(body, config.body.columns, hanging, config.world)
     check_world(config, places)
     disturbances = [resolve(config, places, s) for s in seeds]

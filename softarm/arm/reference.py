@@ -5,19 +5,21 @@ written out again here from the equations of docs/model.md, not taken from `stat
 implementation shows up as a disagreement with the other. One arm, readable over fast.
 """
 
-from typing import Optional, Sequence
+from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 
 from softarm.arm.body import Body
 from softarm.arm.drive import Drive
 from softarm.arm.muscles import Muscles
-from softarm.disturbances import Disturbance
+
+if TYPE_CHECKING:
+    from softarm.disturbances import Disturbance
 
 
 def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velocities: np.ndarray,
                        frame_dt: float, substeps: int, n_frames: int,
-                       disturbances: Sequence[Disturbance] = (), muscles: Optional[Muscles] = None,
+                       disturbances: Sequence["Disturbance"] = (), muscles: Optional[Muscles] = None,
                        commands: Optional[np.ndarray] = None) -> np.ndarray:
     """(n_frames, N, 2) positions at t_k = k * frame_dt, k = 0..n_frames-1; frame 0 is the given state.
 

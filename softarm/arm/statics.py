@@ -4,15 +4,17 @@ Everything here is float64 NumPy, computed once per run before any stepping (doc
 state; Stability and blow-up).
 """
 
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 from softarm.arm.body import Body
 from softarm.arm.drive import Drive
 from softarm.config import Config
-from softarm.disturbances import Disturbance
 from softarm.errors import ConfigError
+
+if TYPE_CHECKING:
+    from softarm.disturbances import Disturbance
 
 
 def spring_forces(body: Body, positions: np.ndarray, velocities: np.ndarray) -> np.ndarray:
@@ -68,7 +70,7 @@ def _stiffness_matrix(body: Body, x: np.ndarray) -> np.ndarray:
     return K.reshape(2 * n, 2 * n)
 
 
-def max_stable_substep(body: Body, disturbances: Sequence[Disturbance] = ()) -> float:
+def max_stable_substep(body: Body, disturbances: Sequence["Disturbance"] = ()) -> float:
     """Largest symplectic-Euler step that is stable for every mode, by a Gershgorin bound.
 
     A mode x'' = -w^2 x - g x' stepped by semi-implicit Euler with step h is stable when
@@ -105,7 +107,7 @@ def initial_state(hanging: np.ndarray, drive: Drive) -> tuple[np.ndarray, np.nda
     return positions, velocities
 
 
-def check_step(config: Config, body: Body, disturbances: Sequence[Disturbance] = ()) -> None:
+def check_step(config: Config, body: Body, disturbances: Sequence["Disturbance"] = ()) -> None:
     """Refuse a substep above the stability limit of semi-implicit Euler (with every disturbance of the run),
     naming the substeps that work."""
     h_max = max_stable_substep(body, disturbances)

@@ -7,7 +7,8 @@
    /arm/disturbance. Floats with at most nine decimals (times in s from integer ns; node positions, rounded
    to the nanometre as np.round does) are written from their integer count of nanounits, which is their
    shortest round-trip text while |value| < 1e6; the other floats (stretch, displacement) and the active
-   lists come already written by orjson, one call per block, and are cut into frames here. Returns None
+   lists come already written by orjson, one call per block, and are cut into frames here, as are the touching
+   lists where the recording has obstacles (an empty buffer: no "touching" key). Returns None
    when a value is outside that range (or not finite): the caller then uses the Python encoder. */
 
 #define PY_SSIZE_T_CLEAN
@@ -183,18 +184,18 @@ static char *put_positions(char *o, const double *p, Py_ssize_t nodes)
 
 static PyObject *encode(PyObject *self, PyObject *args)
 {
-    Py_buffer stamps, pixels, positions, stretch, displacement, active, middle, tail, sizes;
+    Py_buffer stamps, pixels, positions, stretch, displacement, active, touching, middle, tail, sizes;
     int channel[5];
     Py_ssize_t nodes;
-    if (!PyArg_ParseTuple(args, "y*(iiiii)y*y*y*y*y*ny*y*w*", &stamps, &channel[0], &channel[1], &channel[2],
+    if (!PyArg_ParseTuple(args, "y*(iiiii)y*y*y*y*y*ny*y*y*w*", &stamps, &channel[0], &channel[1], &channel[2],
                           &channel[3], &channel[4], &middle, &tail, &pixels, &stretch, &positions, &nodes,
-                          &displacement, &active, &sizes))
+                          &displacement, &active, &touching, &sizes))
         return NULL;
     PyObject *result = NULL, *out = NULL;
     const int64_t *ns = stamps.buf;
     Py_ssize_t n = stamps.len / 8, hw = n ? pixels.len / n : 0;
-    Py_ssize_t bound = n * (5 * HEADER + 5 * 64 + 24 + middle.len + hw + tail.len + nodes * 2 * 26 + 8)
-                       + stretch.len + displacement.len + active.len;
+    Py_ssize_t bound = n * (5 * HEADER + 6 * 64 + 24 + middle.len + hw + tail.len + nodes * 2 * 26 + 8)
+                       + stretch.len + displacement.len + active.len + touching.len;
     if (sizes.len < n * 5 * 8 || positions.len < n * nodes * 2 * 8) {
         PyErr_SetString(PyExc_ValueError, "encode: sizes or positions too short for the block");
         goto done;
@@ -211,6 +212,7 @@ static PyObject *encode(PyObject *self, PyObject *args)
     int64_t *size = sizes.buf;
     const char *rows = stretch.buf, *rows_end = rows + stretch.len, *items = displacement.buf;
     const char *items_end = items + displacement.len, *lists = active.buf, *lists_end = lists + active.len;
+    const char *touches = touching.buf, *touches_end = touches + touching.len;
     const char *piece;
     Py_ssize_t length;
     for (Py_ssize_t f = 0; f < n; f++, size += 5) {
@@ -240,6 +242,11 @@ static PyObject *encode(PyObject *self, PyObject *args)
             goto malformed;
         record = o;
         o = put_text(begin_json(o + HEADER, ns[f], ",\"active\":[", 11), piece, (size_t)length);
+        if (touching.len > 0) {
+            if (!next_row(&touches, touches_end, &piece, &length))
+                goto malformed;
+            o = put_text(put_text(o, "],\"touching\":[", 14), piece, (size_t)length);
+        }
         o = finish_record(record, put_text(o, "]}", 2), channel[4], ns[f], &size[4]);
     }
     if (_PyBytes_Resize(&out, o - PyBytes_AS_STRING(out)) == 0)
@@ -247,18 +254,19 @@ static PyObject *encode(PyObject *self, PyObject *args)
     goto done;
 malformed:
     Py_DECREF(out);
-    PyErr_SetString(PyExc_ValueError, "encode: the stretch, displacement or active JSON has fewer rows than frames");
+    PyErr_SetString(PyExc_ValueError,
+                    "encode: the stretch, displacement, active or touching JSON has fewer rows than frames");
 done:
     PyBuffer_Release(&stamps), PyBuffer_Release(&middle), PyBuffer_Release(&tail), PyBuffer_Release(&pixels);
     PyBuffer_Release(&stretch), PyBuffer_Release(&positions), PyBuffer_Release(&displacement);
-    PyBuffer_Release(&active), PyBuffer_Release(&sizes);
+    PyBuffer_Release(&active), PyBuffer_Release(&touching), PyBuffer_Release(&sizes);
     return result;
 }
 
 static PyMethodDef methods[] = {
     {"encode", encode, METH_VARARGS,
      "encode(stamps, channels, image_middle, image_tail, pixels, stretch_json, positions, nodes, displacement_json, "
-     "active_json, sizes) -> bytes | None: a block's message records (see the module's source)."},
+     "active_json, touching_json (empty: none), sizes) -> bytes | None: a block's message records (see the module's source)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_frames", NULL, -1, methods};

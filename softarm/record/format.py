@@ -55,6 +55,15 @@ JSON_SCHEMAS = {
                     "description": "indices into the model metadata's disturbances"}})),
 }
 
+# In the recordings whose model lists an obstacle, /arm/disturbance also says which ones the arm touches: the label
+# of contact (an obstacle acts on the body only while touched). Recordings without one keep the schema above.
+CONTACT_SCHEMA = {DISTURBANCE: ("softarm.Disturbance", json_schema(
+    "softarm.Disturbance", "The disturbances acting at this frame (start <= t < end), and the obstacles touched",
+    {"active": {"type": "array", "items": {"type": "integer", "minimum": 0},
+                "description": "indices into the model metadata's disturbances"},
+     "touching": {"type": "array", "items": {"type": "integer", "minimum": 0},
+                  "description": "the active obstacles that some free node is inside (|x - centre| < radius)"}}))}
+
 ACTIVATION_SCHEMA = {ACTIVATION: ("softarm.Activation", json_schema(
     "softarm.Activation", "The muscles of a commanded arm (docs/model.md, Muscles), one value per group",
     {"command": {**_NUMBERS, "description": "the command held from this frame to the next, 0..1"},

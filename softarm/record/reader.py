@@ -57,13 +57,13 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
         signal_values(messages[topic], stamps, *signals[topic], topic, path) if messages.get(topic) else None
         for topic in (STRETCH, EXCITATION, ACTIVATION))
     positions = node_positions(messages[NODES], stamps, len(model["nodes"]), path) if messages.get(NODES) else None
+    active, touching = _disturbance(messages.get(DISTURBANCE, {}), stamps, model, path)
     if truncated:
         warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
                       stacklevel=2)
     return Recording(path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames, stretch=stretch,
                      displacement=displacement, positions=positions if nodes else None, complete=complete,
-                     truncated=truncated, active=_active(messages.get(DISTURBANCE, {}), stamps, model, path),
-                     activation=activation)
+                     truncated=truncated, active=active, activation=activation, touching=touching)
 
 
 def read_model(path: Union[str, Path]) -> dict[str, Any]:
@@ -181,16 +181,21 @@ def _model(record: Metadata, path: Path) -> dict[str, Any]:
     return model
 
 
-def _active(messages: dict[int, bytes], stamps: list[int], model: dict[str, Any], path: Path) -> np.ndarray:
-    """(T, D) bool of the disturbance channel: which of the model's D disturbances act at each frame."""
-    count = len(model.get("disturbances", []))
-    out = np.zeros((len(stamps), count), bool)
+def _disturbance(messages: dict[int, bytes], stamps: list[int], model: dict[str, Any],
+                 path: Path) -> tuple[np.ndarray, Optional[np.ndarray]]:
+    """(T, D) bool each of the disturbance channel: which of the model's D disturbances act at each frame, and which
+    obstacles the arm touches (None where the model lists an obstacle and the messages do not say: unknown)."""
+    kinds = [d.get("kind") for d in model.get("disturbances", [])]
+    active, touching = np.zeros((len(stamps), len(kinds)), bool), np.zeros((len(stamps), len(kinds)), bool)
     if not messages:
-        return out
+        return active, None if "obstacle" in kinds else touching
     try:
-        lists = [m["active"] for m in orjson.loads(b"[" + b",".join(messages[s] for s in stamps) + b"]")]
-        for k, indices in enumerate(lists):
-            out[k, indices] = True
+        decoded = orjson.loads(b"[" + b",".join(messages[s] for s in stamps) + b"]")
+        for k, message in enumerate(decoded):
+            active[k, message["active"]] = True
+            touching[k, message.get("touching", [])] = True
     except (orjson.JSONDecodeError, KeyError, TypeError, ValueError, IndexError):
         raise RecordingError(f"{path}: its {DISTURBANCE} messages do not list indices of its disturbances") from None
-    return out
+    if "obstacle" in kinds and not (decoded and "touching" in decoded[0]):
+        return active, None
+    return active, touching

@@ -28,6 +28,9 @@ class Recording:
     active: np.ndarray           # (T, D) bool: disturbance d of the model's list acts at frame k (D = 0 before /3)
     seen: np.ndarray = field(default_factory=lambda: np.ones(0, bool))  # (T,) bool: the camera has frame k
     activation: Optional[np.ndarray] = None  # (T, G) the muscles' activations of a commanded arm; None without muscles
+    # (T, D) bool: the arm touches obstacle d at frame k (the label of contact; False for every other kind); None
+    # where the file has obstacles but was written before `touching` was defined (unknown)
+    touching: Optional[np.ndarray] = None
 
     def __post_init__(self) -> None:
         if len(self.seen) != len(self.times):  # a simulated recording sees every frame

@@ -6,7 +6,7 @@ far (`complete = "false"`). A blown-up run discards its `.part`; a failed write 
 """
 
 from pathlib import Path
-from typing import Any, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Optional, Sequence
 
 import numpy as np
 import orjson
@@ -16,10 +16,10 @@ from softarm.arm.body import Body
 from softarm.arm.camera import world_to_pixel
 from softarm.arm.drive import Drive
 from softarm.config import Config
-from softarm.disturbances import Disturbance
 from softarm.record.format import (
     ACTIVATION,
     ACTIVATION_SCHEMA,
+    CONTACT_SCHEMA,
     DISTURBANCE,
     EXCITATION,
     FORMAT,
@@ -34,9 +34,12 @@ from softarm.record.format import (
 from softarm.record.frames import FRAME_TOPICS, encode_frames
 from softarm.record.mcap_file import McapFile
 
+if TYPE_CHECKING:
+    from softarm.disturbances import Disturbance
+
 
 def model_metadata(config: Config, body: Body, drive: Drive, seed: int, positions: np.ndarray, velocities: np.ndarray,
-                   disturbances: Sequence[Disturbance] = ()) -> dict[str, Any]:
+                   disturbances: Sequence["Disturbance"] = ()) -> dict[str, Any]:
     """Everything another program needs to re-simulate this arm without softarm (docs/model.md, docs/recording.md)."""
     return ArmMetadata(config, body)(drive, seed, positions, velocities, disturbances)
 
@@ -57,7 +60,7 @@ class ArmMetadata:
         self.versions = {"softarm_version": __version__, "config": config.to_dict()}
 
     def __call__(self, drive: Drive, seed: int, positions: np.ndarray, velocities: np.ndarray,
-                 disturbances: Sequence[Disturbance] = ()) -> dict[str, Any]:
+                 disturbances: Sequence["Disturbance"] = ()) -> dict[str, Any]:
         """One arm's, its keys in the order every recording has them."""
         return {**self.body, "excitation": drive.parameters(), **self.sensing,
                 "initial": {"positions": positions.tolist(), "velocities": velocities.tolist()}, "seed": seed,
@@ -72,9 +75,15 @@ class RecordingWriter:
         self.frame_dt = frame_dt
         self.frames = 0
         self.broken = False
-        self._mcap = McapFile(self.path, (IMAGE,), {**JSON_SCHEMAS, **(ACTIVATION_SCHEMA if "muscles" in model else {})})
+        disturbances = model.get("disturbances", [])
+        self._obstacles = [(i, np.array(d["centre"], float), float(d["radius"]))
+                           for i, d in enumerate(disturbances) if d.get("kind") == "obstacle"]
+        self._free = np.setdiff1d(np.arange(len(model["nodes"])), model["driven"]) if self._obstacles else None
+        schemas = {**JSON_SCHEMAS, **(ACTIVATION_SCHEMA if "muscles" in model else {}),
+                   **(CONTACT_SCHEMA if self._obstacles else {})}
+        self._mcap = McapFile(self.path, (IMAGE,), schemas)
         self._mcap.writer.add_metadata(META_MODEL, {"format": FORMAT, "model": orjson.dumps(model).decode()})
-        self._windows = [(d["start"], np.inf if d["end"] is None else d["end"]) for d in model.get("disturbances", [])]
+        self._windows = [(d["start"], np.inf if d["end"] is None else d["end"]) for d in disturbances]
 
     def write(self, images: np.ndarray, stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray,
               muscles: Optional[tuple[np.ndarray, np.ndarray]] = None) -> None:
@@ -94,18 +103,19 @@ class RecordingWriter:
         stamps = np.round(np.arange(self.frames, self.frames + n) * self.frame_dt * 1e9).astype(np.int64)
         stretch, positions, displacement = (np.ascontiguousarray(a, np.float64) for a in (stretch, positions, displacement))
         active = self._active(n)
+        touching = self._touching(positions, active) if self._obstacles else None
         encoded = None if muscles is not None else encode_frames(
             stamps, tuple(self._mcap.channels[topic] for topic in FRAME_TOPICS),
-            self._mcap.image_encoder(*images.shape[1:]), images, stretch, positions, displacement, active)
+            self._mcap.image_encoder(*images.shape[1:]), images, stretch, positions, displacement, active, touching)
         if encoded is not None:
             self._mcap.add_records(stamps, FRAME_TOPICS, *encoded)
         else:
             self._mcap.add_frames(stamps.tolist(), self._messages(stamps.tolist(), images, stretch, positions,
-                                                                  displacement, active, muscles))
+                                                                  displacement, active, touching, muscles))
         self.frames += n
 
     def _messages(self, stamps: list[int], images: np.ndarray, stretch: np.ndarray, positions: np.ndarray,
-                  displacement: np.ndarray, active: list[list[int]],
+                  displacement: np.ndarray, active: list[list[int]], touching: Optional[list[list[int]]],
                   muscles: Optional[tuple[np.ndarray, np.ndarray]]) -> dict[str, list[bytes]]:
         """The Python encoder: each topic's messages of the block (the reference the C encoder matches)."""
         seconds = [ns / 1e9 for ns in stamps]
@@ -116,7 +126,8 @@ class RecordingWriter:
             STRETCH: [dumps({"t": t, "stretch": s}, option=numpy) for t, s in zip(seconds, stretch)],
             NODES: [dumps({"t": t, "positions": p}, option=numpy) for t, p in zip(seconds, positions)],
             EXCITATION: [dumps({"t": t, "displacement": float(d)}) for t, d in zip(seconds, displacement)],
-            DISTURBANCE: [dumps({"t": t, "active": a}) for t, a in zip(seconds, active)]}
+            DISTURBANCE: [dumps({"t": t, "active": a}) for t, a in zip(seconds, active)] if touching is None else
+                         [dumps({"t": t, "active": a, "touching": c}) for t, a, c in zip(seconds, active, touching)]}
         if muscles is not None:
             command, activation = (np.ascontiguousarray(m, np.float64) for m in muscles)
             messages[ACTIVATION] = [dumps({"t": t, "command": u, "activation": a}, option=numpy)
@@ -131,6 +142,13 @@ class RecordingWriter:
         start, end = np.array(self._windows).T
         on = (start[None] <= times[:, None]) & (times[:, None] < end[None])
         return [np.flatnonzero(row).tolist() for row in on]
+
+    def _touching(self, positions: np.ndarray, active: list[list[int]]) -> list[list[int]]:
+        """The active obstacles that some free node is inside at each frame of the block (|x - centre| < radius,
+        from the simulated positions): the label of contact."""
+        inside = {i: [bool(k) for k in (np.sqrt(((positions[:, self._free] - centre) ** 2).sum(axis=2)) < radius).any(axis=1)]
+                  for i, centre, radius in self._obstacles}
+        return [[i for i in row if i in inside and inside[i][k]] for k, row in enumerate(active)]
 
     def close(self, complete: bool) -> Path:
         """Write the run record, the summary and the index, then move the file to its final name."""

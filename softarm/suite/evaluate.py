@@ -77,8 +77,8 @@ class CaseScorer:
         from softarm.model.autoencoder import encode_frames
         from softarm.record.reader import read_model
 
-        touches = any(d.get("kind") == "obstacle" for d in read_model(case.path).get("disturbances", []))
-        reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing, nodes=touches)
+        obstacles = any(d.get("kind") == "obstacle" for d in read_model(case.path).get("disturbances", []))
+        reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing, nodes=obstacles)
         imaginer = self.model.imaginer_for(reading.config)
         windows, targets = imaginer.windows(reading.inputs)
         truth = reading.recording.frames[targets]
@@ -97,7 +97,7 @@ class CaseScorer:
         free = np.ones(len(rec.model["masses"]), bool)
         free[rec.model["driven"]] = False
         return scores, methods, case_surprise(case.family, surprise, targets, rec.times, rec.active,
-                                              rec.model.get("disturbances", []), rec.positions if touches else None, free)
+                                              rec.model.get("disturbances", []), rec.touching, rec.positions, free)
 
 
 def family_scores(parts: dict[str, list[dict[str, np.ndarray]]]) -> dict[str, Any]:

@@ -34,6 +34,14 @@ def test_every_kind_records_re_simulates_from_its_metadata_and_passes_the_checke
     for d, entry in enumerate(listed):  # the channel names exactly the frames inside each interval
         inside = (rec.times >= entry["start"]) & ((rec.times < entry["end"]) if entry["end"] is not None else True)
         assert np.array_equal(rec.active[:, d], inside)
+    free = np.setdiff1d(np.arange(len(rec.model["nodes"])), rec.model["driven"])
+    for d, entry in enumerate(listed):  # the label of contact: an active obstacle some free node is inside
+        inside = (entry["kind"] == "obstacle"
+                  and (np.linalg.norm(rec.positions[:, free] - entry.get("centre", 0.0), axis=2) < entry.get("radius", 0))
+                  .any(axis=1))
+        assert np.array_equal(rec.touching[:, d], inside & rec.active[:, d])
+    if "obstacle" in [d["kind"] for d in listed]:
+        assert 0 < rec.touching.sum() < rec.active[:, [d["kind"] == "obstacle" for d in listed]].sum()
     again = resimulate(rec.model, len(rec.times))
     assert np.abs(again - rec.positions).max() < 1e-3  # MODEL.md's bar; here it agrees to the metadata's rounding
     assert np.abs(again - rec.positions).max() < 1e-7

@@ -62,6 +62,32 @@ def test_the_c_encoder_writes_the_python_encoders_bytes_over_every_float_regime(
     assert c == python
 
 
+def test_with_obstacles_both_encoders_write_the_same_touching_lists(tmp_path, monkeypatch):
+    """Two discs beside a swinging cloud of nodes: the frames where some free node is inside each (the driven
+    node 0 never counts), written alike by both encoders."""
+    rng = np.random.default_rng(3)
+    positions = np.cumsum(rng.normal(0, 0.004, (120, 6, 2)), axis=0)
+    positions[:, 0] = (0.0, 0.0)  # the driven node, inside the first disc all along
+    discs = [{"kind": "obstacle", "start": 0.0, "end": None, "centre": [0.0, 0.0], "radius": 0.02},
+             {"kind": "push", "start": 0.2, "end": 0.5},
+             {"kind": "obstacle", "start": 0.4, "end": 1.0, "centre": [0.01, -0.01], "radius": 0.015}]
+    model = {"disturbances": discs, "nodes": [[0.0, 0.0]] * 6, "driven": [0]}
+    args = [(np.zeros((n, 4, 3), np.uint8), rng.normal(size=(n, 2)), positions[s:s + n], np.zeros(n))
+            for s, n in ((0, 1), (1, 70), (71, 49))]
+    c = write(tmp_path / "c.mcap", args, monkeypatch, native=True, model=model)
+    python = write(tmp_path / "py.mcap", args, monkeypatch, native=False, model=model)
+    assert c == python
+    from softarm.record.reader import _disturbance
+    messages = {int(m.log_time): m.data for _, _, m in make_reader(io.BytesIO(c)).iter_messages(["/arm/disturbance"])}
+    active, touching = _disturbance(messages, sorted(messages), model, tmp_path / "c.mcap")
+    free = positions[:, 1:]
+    for d, disc in ((0, discs[0]), (2, discs[2])):
+        inside = (np.linalg.norm(free - disc["centre"], axis=2) < disc["radius"]).any(axis=1)
+        assert np.array_equal(touching[:, d], inside & active[:, d])
+        assert 0 < touching[:, d].sum() < active[:, d].sum()  # touched sometimes, not always
+    assert not touching[:, 1].any()
+
+
 @pytest.mark.parametrize("bad", [1e6, -3e7, np.nan, np.inf])
 def test_values_the_c_encoder_cannot_write_exactly_fall_back_to_python(tmp_path, monkeypatch, bad):
     rng = np.random.default_rng(1)
@@ -72,7 +98,7 @@ def test_values_the_c_encoder_cannot_write_exactly_fall_back_to_python(tmp_path,
     images, stretch, pos, displacement = args[0]
     rows, items = b"[" + b",".join([b"[1.0]"] * 20) + b"]", b"[" + b",".join([b"0.5"] * 20) + b"]"
     assert frames.native.encode(np.arange(20, dtype=np.int64) * 10**7, (1, 2, 3, 4, 5), b"", b"", images, rows, pos,
-                                57, items, b"[" + b",".join([b"[]"] * 20) + b"]", sizes) is None
+                                57, items, b"[" + b",".join([b"[]"] * 20) + b"]", b"", sizes) is None
     assert write(tmp_path / "c.mcap", args, monkeypatch, native=True) == write(tmp_path / "p.mcap", args, monkeypatch,
                                                                                native=False)
 
@@ -81,7 +107,10 @@ def test_malformed_json_rows_are_refused_not_read_past():
     sizes = np.empty((2, 5), np.int64)
     with pytest.raises(ValueError, match="fewer rows"):
         frames.native.encode(np.array([0, 10], np.int64), (1, 2, 3, 4, 5), b"", b"", np.zeros((2, 4), np.uint8),
-                             b"[[1.0]]", np.zeros((2, 1, 2)), 1, b"[0.1,0.2]", b"[[],[]]", sizes)
+                             b"[[1.0]]", np.zeros((2, 1, 2)), 1, b"[0.1,0.2]", b"[[],[]]", b"", sizes)
+    with pytest.raises(ValueError, match="fewer rows"):  # the touching lists too
+        frames.native.encode(np.array([0, 10], np.int64), (1, 2, 3, 4, 5), b"", b"", np.zeros((2, 4), np.uint8),
+                             b"[[1.0],[2.0]]", np.zeros((2, 1, 2)), 1, b"[0.1,0.2]", b"[[],[]]", b"[[0]]", sizes)
 
 
 def chunks_and_indexes(data: bytes) -> list[tuple[bytes, list[MessageIndex]]]:

@@ -45,8 +45,9 @@ def test_the_calibrated_reference_sees_what_its_spread_implies():
     assert reference(1.0).mean() < reference(0.01).mean() < 1
 
 
-def test_an_obstacle_marks_the_frames_a_free_node_is_inside_it():
-    """Two nodes, the first driven: the free one crosses a disc of radius 0.1 at the origin while x < 0.1."""
+def test_an_obstacle_is_labelled_by_the_frames_a_free_node_is_inside_it():
+    """Two nodes, the first driven: the free one crosses a disc of radius 0.1 at the origin while |x| < 0.1; the
+    recorded `touching` and, for an older recording, the positions give the same label, onsets and scores."""
     from softarm.suite.surprise import case_surprise, surprise_report
 
     t = np.arange(100) * 0.01
@@ -56,15 +57,28 @@ def test_an_obstacle_marks_the_frames_a_free_node_is_inside_it():
     obstacle = {"kind": "obstacle", "start": 0.0, "end": None, "centre": [0.0, 0.0], "radius": 0.1}
     free = np.array([False, True])
     targets = np.arange(5, 100)
-    surprise = np.where(np.abs(positions[targets, 1, 0]) < 0.1, 5.0, 1.0)
-    case = case_surprise("contact", surprise, targets, t, np.ones((100, 1), bool), [obstacle], positions, free)
-    np.testing.assert_array_equal(case.touching, np.abs(positions[targets, 1, 0]) < 0.1)
-    assert case.active.all() and case.touching.sum() == 20
+    inside = np.abs(positions[:, 1, 0]) < 0.1
+    surprise = np.where(inside[targets], 5.0, 1.0)
+    active = np.ones((100, 1), bool)
+    recorded = case_surprise("contact", surprise, targets, t, active, [obstacle], touching=inside[:, None])
+    older = case_surprise("contact", surprise, targets, t, active, [obstacle], positions=positions, free=free)
     calm = case_surprise("multisine_low", np.ones(95), targets, t, np.zeros((100, 0), bool), [])
-    row = surprise_report([case, calm], 3.0, 0.01)["families"]["contact"]
-    assert row["auroc_touching"] == 1.0 and row["touching_share"] == 20 / 95 and row["auroc"] < 1.0
-    # the bounds the label sets: the 20 touching frames outrank the 95 negatives, the other 75 tie with them; the
-    # first touch comes at the first target whose free node is inside the disc
-    assert row["auroc_touch_only"] == (20 + 0.5 * 75) / 95
-    first = np.flatnonzero(np.abs(positions[targets, 1, 0]) < 0.1)[0]
-    assert first > 0 and row["first_touch_ms"] == pytest.approx(first * 10.0)
+    first = int(np.flatnonzero(inside[targets])[0])
+    for case in (recorded, older):
+        np.testing.assert_array_equal(case.active, inside[targets])
+        assert case.present.all() and case.onsets == [(first, first + 20)] and case.first_touches == (first,)
+        row = surprise_report([case, calm], 3.0, 0.01)["families"]["contact"]
+        assert row["auroc"] == 1.0 and row["disturbances"] == 1 and row["latency_ms_suite"] == 0.0
+        # the older view: the 20 touched frames outrank the 95 negatives, the other 75 tie with them
+        assert row["auroc_present"] == (20 * 95 + 0.5 * 75 * 95) / (95 * 95) and row["touching_share"] == 20 / 95
+        assert first > 0 and row["first_touch_ms"] == pytest.approx(first * 10.0)
+
+
+def test_a_contact_recording_never_touched_is_disturbed_not_calm():
+    from softarm.suite.surprise import case_surprise
+
+    t, targets = np.arange(50) * 0.01, np.arange(50)
+    obstacle = {"kind": "obstacle", "start": 0.0, "end": None, "centre": [9.0, 9.0], "radius": 0.1}
+    case = case_surprise("contact", np.ones(50), targets, t, np.ones((50, 1), bool), [obstacle],
+                         touching=np.zeros((50, 1), bool))
+    assert case.disturbed and not case.active.any() and case.onsets == [] and case.first_touches == ()
