@@ -16,7 +16,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from softarm.model.alarm import alarm_onsets, alarm_threshold
+from softarm.model.alarm import alarm_onsets, alarm_threshold, runs
 from softarm.suite.trust import auroc
 
 PER_MINUTE = 1.0
@@ -72,12 +72,6 @@ def _touches(targets: np.ndarray, active: np.ndarray, disturbances: list[dict[st
             gap = np.linalg.norm(positions[targets][:, free] - np.asarray(d["centre"]), axis=2)
             out[:, n] = active[targets, n] & (gap < float(d["radius"])).any(axis=1)
     return out
-
-
-def runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """[start, end) of every run of True."""
-    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
-    return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist()))
 
 
 def surprise_report(cases: list[CaseSurprise], own_threshold: float, frame_dt: float) -> Optional[dict[str, Any]]:
