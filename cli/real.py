@@ -15,7 +15,7 @@ MASK_HELP = ("Which pixels are arm: CHANNEL>VALUE or CHANNEL<VALUE (channels r g
 
 
 def import_log(
-    log: Annotated[Path, typer.Argument(metavar="LOG.mcap", help="A ROS 2 or Foxglove MCAP log.")],
+    log: Annotated[Path, typer.Argument(metavar="LOG", help="A robot's log: an MCAP file (ROS 2 or Foxglove), a ROS 1 .bag or a ROS 2 bag folder (sqlite3 or MCAP storage).")],
     camera: Annotated[str, typer.Option(help="Image topic (sensor_msgs Image / CompressedImage, foxglove RawImage / CompressedImage).")],
     sensors: Annotated[str, typer.Option(help="Stretch readings as TOPIC:FIELD, e.g. /arm/stretch:data or /joint_states:position.")],
     out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="The softarm recording to write (.mcap).")] = None,

@@ -196,9 +196,14 @@ def finite_or_null(value: Any) -> Any:
 
 
 def fingerprint(path: PathLike) -> str:
-    """First 16 hex digits of the file's SHA-256: enough to tell recordings apart, short enough to read."""
+    """First 16 hex digits of the file's SHA-256 (of a folder, such as a ROS 2 bag: of its files' names and bytes
+    in name order): enough to tell inputs apart, short enough to read."""
     digest = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            digest.update(block)
+    path = Path(path)
+    for file in sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path]:
+        if path.is_dir():
+            digest.update(str(file.relative_to(path)).encode() + b"\0")
+        with open(file, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                digest.update(block)
     return digest.hexdigest()[:16]

@@ -14,6 +14,7 @@ from softarm.files import check_outputs, claimed, fingerprint, made_folders
 from softarm.interrupt import Escalated, Interrupted, Stopped, stop_on_signal
 from softarm.real.align import Grid, camera_period, dropped_frames, estimate_lag, frame_grid, interpolate, rate
 from softarm.real.camera import CameraReader, Masks
+from softarm.real.formats import log_inputs, open_log
 from softarm.real.log import LogFile
 from softarm.real.pool import segmenting_pool
 from softarm.real.settings import ImportSettings
@@ -52,7 +53,7 @@ def import_log(log_path: PathLike, out: PathLike, settings: ImportSettings, forc
     """Convert; refuse, before writing anything, topics the log lacks, unsupported encodings, signals that do not
     overlap in time and a mask that is empty everywhere."""
     log_path, out = Path(log_path), Path(out)
-    check_outputs([out], force=force, inputs=[log_path, *settings.input_files()])
+    check_outputs([out], force=force, inputs=[*log_inputs(log_path), *settings.input_files()])
     try:
         with stop_on_signal() as caught, made_folders([out]), claimed([out]):  # a second import to `out`: refused
             return _import(log_path, out, settings, progress, lambda: bool(caught))
@@ -96,7 +97,7 @@ def _import(log_path: Path, out: Path, settings: ImportSettings, progress: Calla
 def _read(log_path: Path, settings: ImportSettings, progress: Callable[[int], None], stop: Callable[[], bool]
           ) -> tuple[CameraReader, Masks, Series, Optional[Series], str]:
     """The log read: its masks, sensors and drive, and its fingerprint (hashed by the pool beside the reading)."""
-    with LogFile(log_path) as log:
+    with open_log(log_path) as log:
         check_camera(log, settings)
         if settings.frame_dt is not None:  # before any frame is read: the grid the log's span makes must fit
             check_grid(log.seconds(), settings.frame_dt, settings.width * settings.height + 64)
@@ -132,9 +133,9 @@ def check_camera(log: LogFile, settings: ImportSettings) -> None:
     if not topic.image:
         raise RecordingError(f"--camera: {settings.camera} carries {topic.schema or 'schemaless'} messages, not "
                              f"images; {log.describe()}")
-    if topic.encoding not in ("cdr", "protobuf"):
+    if topic.encoding not in ("cdr", "ros1", "protobuf"):
         raise RecordingError(f"--camera: {settings.camera} holds {topic.encoding}-encoded images; softarm reads "
-                             "images as ROS 2 (cdr) or protobuf messages")
+                             "images as ROS 2 (cdr), ROS 1 or protobuf messages")
     if topic.messages < 2:
         raise RecordingError(f"--camera: {settings.camera} holds {topic.messages} image(s); a recording needs two or more")
 

@@ -1,6 +1,7 @@
 """Numbers in a decoded message, named by a field path (`data`, `position`, `pose.position.x`, `data[0]`): ROS 2
 messages (mcap_ros2's classes), protobuf messages and JSON objects alike; and the header stamp beside them."""
 
+import dataclasses
 import re
 from typing import Any, Callable, Optional
 
@@ -25,6 +26,8 @@ def field_names(message: Any) -> list[str]:
         return list(message)
     if hasattr(message, "DESCRIPTOR"):
         return [f.name for f in message.DESCRIPTOR.fields]
+    if dataclasses.is_dataclass(message):  # rosbags' message classes (a bag's messages)
+        return [f.name for f in dataclasses.fields(message) if not f.name.startswith("__")]
     return list(getattr(message, "__slots__", ()))
 
 
@@ -82,8 +85,9 @@ def numeric_fields(message: Any, prefix: str = "", depth: int = 0) -> list[str]:
         value = _get(message, name)
         if isinstance(value, (bool, str, bytes)):
             continue
-        if isinstance(value, (int, float)) or (isinstance(value, (list, tuple)) and value
-                                               and all(isinstance(v, (int, float)) for v in value)):
+        if isinstance(value, (int, float, np.number)) or (isinstance(value, (list, tuple)) and value
+                                                          and all(isinstance(v, (int, float)) for v in value)) or (
+                isinstance(value, np.ndarray) and value.ndim == 1 and value.size and value.dtype.kind in "iuf"):
             out.append(prefix + name)
         elif field_names(value) and not isinstance(value, (list, tuple)):
             out.extend(numeric_fields(value, f"{prefix}{name}.", depth + 1))

@@ -6,7 +6,7 @@ from typing import Union
 from softarm.files import check_outputs
 from softarm.real.camera import CameraReader
 from softarm.real.convert import check_camera
-from softarm.real.log import LogFile
+from softarm.real.formats import log_inputs, open_log
 from softarm.real.settings import ImportSettings
 
 
@@ -16,8 +16,8 @@ def preview_log(log_path: Union[str, Path], png: Union[str, Path], settings: Imp
     from softarm.view.preview import write_preview  # PIL drawing: only when a preview is asked for
 
     log_path, png = Path(log_path), Path(png)
-    check_outputs([png], force=force, inputs=[log_path, *settings.input_files()])
-    with LogFile(log_path) as log:
+    check_outputs([png], force=force, inputs=[*log_inputs(log_path), *settings.input_files()])
+    with open_log(log_path) as log:
         check_camera(log, settings)
         camera = CameraReader(log, settings)
         camera.first_look(camera.samples())
