@@ -68,18 +68,31 @@ def robot_log(
     out_path: Annotated[Path, typer.Option("--out", "-o", help="The ROS 2 MCAP log to write.")],
     image_format: Annotated[str, typer.Option(help="jpeg | png | rgb8")] = "jpeg",
     offset: Annotated[float, typer.Option(help="Seconds the sensor clock runs ahead of the camera's.")] = 0.047,
+    dropped: Annotated[int, typer.Option(help="Camera frames dropped.")] = 5,
+    arm_colour: Annotated[str, typer.Option(help="The arm's colour R,G,B (0..255).")] = "215,95,35",
+    scene_colour: Annotated[str, typer.Option(help="The background's mean colour R,G,B (0..255).")] = "98,128,126",
+    texture: Annotated[float, typer.Option(help="The background's texture, 0 (flat) to 3; 1 is a lab wall's.")] = 1.0,
+    lighting_drift: Annotated[float, typer.Option(help="The light's level drifts from 1 - this to 1 + this over the run (0..0.9).")] = 0.0,
+    motion_blur: Annotated[float, typer.Option(help="Exposure time in s: the moving arm is smeared over it (0..0.2).")] = 0.0,
+    distractor: Annotated[bool, typer.Option(help="A second object swinging across the scene behind the arm.")] = False,
+    seed: Annotated[int, typer.Option(help="Seed of the scene, the noise, the dropped frames and the jitter.")] = 0,
     force: Force = False,
     quiet: Quiet = False,
 ) -> None:
     """Write a softarm recording as the ROS 2 bag a lab would log (640x480 colour camera at 30 Hz, stretch at 100 Hz
-    on a clock of its own, the drive): something to try `softarm import` on.
+    on a clock of its own, the drive): something to try `softarm import` on, in scenes unlike the default one.
 
     \b
     Example: softarm robot-log recordings/seed0.mcap --out recordings/seed0_robot.mcap
+             softarm robot-log recordings/seed0.mcap --out recordings/seed0_dark.mcap --arm-colour 40,35,45 --scene-colour 200,200,190 --lighting-drift 0.3 --distractor
     """
     from softarm.real.robot_log import RobotLogSettings, make_robot_log
+    from softarm.real.robot_settings import parse_rgb
 
-    settings = RobotLogSettings(image_format=image_format, sensor_offset=offset)
+    settings = run_or_exit(lambda: RobotLogSettings(
+        image_format=image_format, sensor_offset=offset, dropped=dropped, arm_rgb=parse_rgb(arm_colour, "--arm-colour"),
+        scene_rgb=parse_rgb(scene_colour, "--scene-colour"), texture=texture, lighting_drift=lighting_drift,
+        motion_blur=motion_blur, distractor=distractor, seed=seed))
     made = run_or_exit(lambda: make_robot_log(recording, out_path, settings, force=force))
     if quiet:
         return

@@ -92,7 +92,14 @@ def _streams(rec: Recording, settings: RobotLogSettings, rng: np.random.Generato
     drive_ns = true_ns + _ns(settings.sensor_offset)
     stretch = rec.stretch.astype(np.float32)
     topic = _camera_topic(settings)[0]
-    images = ((int(camera_log[j]), topic, camera.message(rec.positions[shown[j]], int(true_ns[shown[j]])))
+    smear = int(round(settings.motion_blur / rec.frame_dt))  # recording frames within one exposure, before the last
+    span = max(float(rec.times[-1]), 1e-9)
+
+    def exposure(k: int) -> np.ndarray:
+        return rec.positions[k] if smear == 0 else rec.positions[max(0, k - smear):k + 1]
+
+    images = ((int(camera_log[j]), topic, camera.message(exposure(shown[j]), int(true_ns[shown[j]]),
+                                                         float(rec.times[shown[j]]) / span))
               for j in kept)
     stretches = ((int(stretch_log[k]), "/arm/stretch",
                   {"header": ros_header(int(stretch_ns[k]), "arm"), "data": stretch[k].tolist()} if settings.sensor_header
@@ -121,6 +128,7 @@ def make_robot_log(recording: str | Path, out: str | Path, settings: RobotLogSet
     if settings.image_format not in ("jpeg", "png", "rgb8"):
         raise ConfigError(f"--image-format {settings.image_format!r}: give jpeg, png or rgb8")
     limits.finite("--offset", settings.sensor_offset, 60.0)
+    check_scene(settings)
     check_outputs([out], force=force, inputs=[recording])
     rec = read_recording(recording)
     if rec.positions is None or rec.displacement is None:
@@ -151,6 +159,20 @@ def make_robot_log(recording: str | Path, out: str | Path, settings: RobotLogSet
         raise Escalated(f"stopped at once by a second stop request; nothing was written to {out}") from None
     return RobotLog(Path(out), _camera_topic(settings)[0], "/arm/stretch", "/arm/command", camera.roi,
                     settings.sensor_offset, dropped, len(camera_times), camera_times)
+
+
+def check_scene(settings: RobotLogSettings) -> None:
+    """The scene options in range, each refused in one line naming its option."""
+    for option, rgb in (("--arm-colour", settings.arm_rgb), ("--scene-colour", settings.scene_rgb)):
+        if len(rgb) != 3 or not all(isinstance(v, (int, np.integer)) and 0 <= v <= 255 for v in rgb):
+            raise ConfigError(f"{option} {','.join(map(str, rgb))}: give R,G,B, three integers 0..255")
+    checks = (("--texture", settings.texture, 0.0, 3.0), ("--lighting-drift", settings.lighting_drift, 0.0, 0.9),
+              ("--motion-blur", settings.motion_blur, 0.0, 0.2), ("--dropped", settings.dropped, 0, 10_000))
+    for option, value, low, high in checks:
+        if not (low <= value <= high):  # NaN fails too
+            raise ConfigError(f"{option} {value}: give a value in {low:g}..{high:g}")
+    if not 0 <= settings.seed < 2 ** 63:
+        raise ConfigError(f"--seed {settings.seed}: give a whole number >= 0")
 
 
 def _definition(name: str) -> str:

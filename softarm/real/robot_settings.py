@@ -3,6 +3,8 @@
 from dataclasses import dataclass
 from typing import Any
 
+from softarm.errors import ConfigError
+
 
 @dataclass(frozen=True)
 class RobotLogSettings:
@@ -19,8 +21,26 @@ class RobotLogSettings:
     light_noise: float = 0.04       # relative std of each frame's overall brightness (lighting flicker)
     pixel_noise: float = 4.0        # std of per-pixel noise, in 0..255 units
     sensor_header: bool = True      # False: stretch as std_msgs/msg/Float32MultiArray (no header)
+    # The scene, for logs unlike the default one (an importer must not depend on an orange arm on blue-green):
+    arm_rgb: tuple[int, int, int] = (215, 95, 35)      # the arm's colour (lit from the top left)
+    scene_rgb: tuple[int, int, int] = (98, 128, 126)   # the background's mean colour
+    texture: float = 1.0            # the background's texture (blotches, stripes, blobs), 0: flat
+    lighting_drift: float = 0.0     # the light's overall level drifts from 1 - this to 1 + this over the run
+    motion_blur: float = 0.0        # s: exposure time; the arm moving within it is smeared (0: a sharp arm)
+    distractor: bool = False        # a second object (a dark disc on a string) swinging across the scene
     start: float = 1_700_000_000.0  # s: ROS time of the recording's t = 0
     seed: int = 0
+
+
+def parse_rgb(text: str, option: str) -> tuple[int, int, int]:
+    """'R,G,B' -> a colour, three integers 0..255."""
+    try:
+        r, g, b = (int(v) for v in text.split(","))
+    except ValueError:
+        raise ConfigError(f"{option} {text!r}: give R,G,B, three integers 0..255, e.g. 40,40,60") from None
+    if not all(0 <= v <= 255 for v in (r, g, b)):
+        raise ConfigError(f"{option} {text!r}: give R,G,B, three integers 0..255, e.g. 40,40,60")
+    return r, g, b
 
 
 def ros_header(stamp_ns: int, frame_id: str) -> dict[str, Any]:

@@ -131,3 +131,62 @@ def test_a_failed_write_leaves_no_file(recordings, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
     with pytest.raises(ConfigError, match="image-format"):
         make_robot_log(recordings / "three_sensors.mcap", tmp_path / "bag.mcap", RobotLogSettings(image_format="bmp"))
+
+
+def camera_images(log) -> np.ndarray:
+    """(frames, H, W, 3) uint8 of the log's camera, decoded by mcap-ros2-support and PIL."""
+    return np.stack([np.asarray(Image.open(io.BytesIO(m.data)).convert("RGB")) for _, m in decoded(log.path, log.camera_topic)])
+
+
+@pytest.mark.slow
+def test_scene_options_change_what_the_camera_sees_and_nothing_else(recordings, tmp_path):
+    """A dark arm on a light flat wall, light that drifts, a smeared arm and a swinging object: each where and as
+    large as asked, the arm still exactly where the recording puts it."""
+    rec = read_recording(recordings / "s0.mcap")
+    base = dict(width=320, height=240, image_format="png", light_noise=0.0, pixel_noise=0.0, blur=0.0, dropped=0)
+    plain = make_robot_log(recordings / "s0.mcap", tmp_path / "plain.mcap", RobotLogSettings(**base))
+    k = np.rint(plain.camera_times / rec.frame_dt).astype(int)
+    (x, y, w, h), shape = plain.roi, rec.frames.shape[1:]
+    arm = np.zeros((len(k), 240, 320), bool)
+    arm[:, y:y + h, x:x + w] = np.repeat(np.repeat(rec.frames[k].astype(bool), h // shape[0], 1), w // shape[1], 2)
+    shifts = [(dy, dx) for dy in range(-3, 4) for dx in range(-3, 4)]
+    inner = np.logical_and.reduce([np.roll(arm, shift, (1, 2)) for shift in shifts])   # 3 px inside the arm
+    outer = ~np.logical_or.reduce([np.roll(arm, shift, (1, 2)) for shift in shifts])   # 3 px clear of it
+    outer[:, :y + 3], outer[:, y + h - 3:], outer[:, :, :x + 3], outer[:, :, x + w - 3:] = False, False, False, False
+
+    dark = dict(base, arm_rgb=(40, 35, 45), scene_rgb=(200, 200, 190), texture=0.0)
+    seen = camera_images(make_robot_log(recordings / "s0.mcap", tmp_path / "dark.mcap", RobotLogSettings(**dark)))
+    lit = seen[inner].mean(0) / np.array([40, 35, 45])
+    assert np.all(np.abs(lit - 1) < 0.1)                           # the arm in its colour (its shading within 10 %)
+    assert np.abs(seen[outer].astype(float) - [200, 200, 190]).max() <= 2  # a flat wall: no texture at all
+
+    drift = camera_images(make_robot_log(recordings / "s0.mcap", tmp_path / "drift.mcap",
+                                         RobotLogSettings(**dict(base, lighting_drift=0.3))))
+    plain_images = camera_images(plain)
+    ratio = drift[:, outer[0]].mean((1, 2)) / plain_images[:, outer[0]].mean((1, 2))
+    assert abs(ratio[0] - 0.7) < 0.02 and abs(ratio[-1] - 1.3) < 0.03 and np.all(np.diff(ratio) > -0.01)
+
+    smeared = camera_images(make_robot_log(recordings / "s0.mcap", tmp_path / "blur.mcap",
+                                           RobotLogSettings(**dict(base, motion_blur=0.05))))
+    smear = np.abs(smeared.astype(int) - plain_images).sum(-1) > 30  # where the exposure moved the arm's cover
+    near = np.logical_or.reduce([np.roll(arm, (dy, dx), (1, 2)) for dy in range(-12, 13, 3) for dx in range(-12, 13, 3)])
+    assert smear.sum() > 0.05 * arm.sum() and not smear[~near].any()
+
+    swinging = camera_images(make_robot_log(recordings / "s0.mcap", tmp_path / "swing.mcap",
+                                            RobotLogSettings(**dict(base, distractor=True))))
+    changed = np.abs(swinging.astype(int) - plain_images).sum(-1) > 30
+    assert not changed[inner].any()                                # behind the arm, never over it
+    where = [np.argwhere(c).mean(0) for c in changed]
+    sizes = changed.sum((1, 2))
+    assert np.median(sizes) > 500 and sizes.min() > 50 and np.linalg.norm(where[0] - where[-1]) > 20, (sizes.min(), where[0], where[-1])
+
+
+@pytest.mark.parametrize("field, value, words", [("arm_rgb", (300, 0, 0), "--arm-colour"),
+                                                 ("scene_rgb", (1, 2), "--scene-colour"),
+                                                 ("lighting_drift", 1.5, "--lighting-drift"),
+                                                 ("motion_blur", float("nan"), "--motion-blur"),
+                                                 ("texture", -1.0, "--texture"), ("seed", -1, "--seed")])
+def test_scene_options_out_of_range_are_refused_before_anything_is_written(recordings, tmp_path, field, value, words):
+    with pytest.raises(ConfigError, match=words):
+        make_robot_log(recordings / "three_sensors.mcap", tmp_path / "bag.mcap", RobotLogSettings(**{field: value}))
+    assert list(tmp_path.iterdir()) == []
