@@ -10,8 +10,9 @@ from softarm_cli.options import Force, Quiet
 
 from softarm.real.settings import ImportSettings, parse_frame_dt, parse_roi
 
-MASK_HELP = ("Which pixels are arm: CHANNEL>VALUE or CHANNEL<VALUE (channels r g b gray h s v, or diff against the "
-             "background; VALUE a number 0..255, hue in degrees, or otsu), or hsv=H0-H1,S0-S1,V0-V1.")
+MASK_HELP = ("Which pixels are arm: auto (the Otsu rule that separates best, cleaned), CHANNEL>VALUE or CHANNEL<VALUE "
+             "(channels r g b gray h s v, or diff and chroma against the background; VALUE a number 0..255, hue in "
+             "degrees, or otsu), or hsv=H0-H1,S0-S1,V0-V1.")
 
 
 def import_log(
@@ -20,7 +21,7 @@ def import_log(
     sensors: Annotated[str, typer.Option(help="Stretch readings as TOPIC:FIELD, e.g. /arm/stretch:data or /joint_states:position.")],
     out_path: Annotated[Optional[Path], typer.Option("--out", "-o", help="The softarm recording to write (.mcap).")] = None,
     drive: Annotated[Optional[str], typer.Option(help="The actuator command as TOPIC:FIELD, on the sensors' clock.")] = None,
-    mask: Annotated[str, typer.Option(help=MASK_HELP)] = "s>otsu",
+    mask: Annotated[str, typer.Option(help=MASK_HELP)] = "auto",
     background: Annotated[Optional[str], typer.Option(help="Subtract a background: 'median' of frames across the log, or an image file.")] = None,
     roi: Annotated[Optional[str], typer.Option(help="Region of interest X,Y,WIDTH,HEIGHT in the camera's pixels, cut before resizing.")] = None,
     frame_dt: Annotated[Optional[str], typer.Option(help="Frame period of the recording in s, or 'camera' for the camera's own; frames between camera images are gaps [default: the config's integration.frame_dt, the stretch's usual rate].")] = None,
@@ -59,7 +60,8 @@ def import_log(
     say(f"overlap: {report.overlap[0]:.3f}..{report.overlap[1]:.3f} s of the camera's time; "
               f"{report.frames} frames every {report.frame_dt * 1e3:.2f} ms, {report.frames - len(report.gaps)} with a "
               f"camera image ({len(report.gaps)} without: training skips them); the camera dropped {report.dropped} frame(s)")
-    say(f"mask: {report.coverage:.1%} of pixels are arm" + (f" (Otsu threshold {report.threshold:.0f})" if report.threshold is not None else ""))
+    chose = f"auto chose {report.rule} (separability {report.separability:.2f}); " if report.separability is not None else ""
+    say(f"mask: {chose}{report.coverage:.1%} of pixels are arm" + (f" (Otsu threshold {report.threshold:.0f})" if report.threshold is not None else ""))
     say(f"wrote {report.path}")
 
 

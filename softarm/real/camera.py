@@ -18,7 +18,7 @@ from softarm.real.fields import header_stamp
 from softarm.real.images import crop_box, decode_image
 from softarm.real.log import LogFile
 from softarm.real.pool import segment_task
-from softarm.real.segment import MaskRule, downsample, otsu, parse_mask
+from softarm.real.segment import SEPARABLE, Auto, MaskRule, choose_rule, downsample, main_parts, otsu, parse_mask
 from softarm.real.settings import ImportSettings
 
 Other = dict[str, Callable[[int, object], None]]
@@ -43,6 +43,8 @@ class CameraReader:
         self.where = f"{log.path}:{settings.camera}"
         self.background: Optional[np.ndarray] = None
         self.threshold: Optional[float] = None
+        self.separability: Optional[float] = None  # of the rule `auto` chose
+        self.clean = isinstance(self.rule, Auto)   # keep only the mask's main parts
 
     def decode(self, message: object) -> tuple[object, np.ndarray, tuple[int, int]]:
         """(message, ROI pixels, camera size) of one decoded image message."""
@@ -68,7 +70,13 @@ class CameraReader:
             self.background = np.median(np.stack(samples), axis=0).astype(np.int16)
         elif background is not None:
             self.background = _background_file(Path(background), shape, decoded[0][2], self.settings.roi)
-        if self.rule.needs_otsu:
+        if isinstance(self.rule, Auto):
+            self.rule, self.threshold, self.separability = choose_rule(samples, self.background)
+            if self.separability < SEPARABLE:
+                warnings.warn(f"{self.where}: no mask rule separates the arm well (the best, {self.rule.text}, scores "
+                              f"{self.separability:.2f} of 1); look at --preview PNG and give --mask or --roi",
+                              stacklevel=2)
+        elif self.rule.needs_otsu:
             self.threshold = otsu(np.concatenate([self.rule.channel(p, self.background).ravel() for p in samples]))
 
     def samples(self) -> list[object]:
@@ -125,7 +133,8 @@ class CameraReader:
     def segment(self, pixels: np.ndarray) -> np.ndarray:
         """(height, width) uint8 0/1: the mask of one frame's ROI pixels at the models' camera size."""
         values = self.rule.channel(pixels, self._fit(self.background, pixels))
-        return downsample(self.rule.apply(values, self.threshold), self.settings.width, self.settings.height)
+        mask = downsample(self.rule.apply(values, self.threshold), self.settings.width, self.settings.height)
+        return main_parts(mask) if self.clean else mask
 
     def examples(self, count: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """(the whole frame with the region of interest outlined, ROI pixels, mask) of `count` frames spread over

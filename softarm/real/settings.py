@@ -15,7 +15,7 @@ class ImportSettings:
     camera: str                      # image topic
     sensors: str                     # TOPIC:FIELD of the stretch (or bend) readings
     drive: Optional[str] = None      # TOPIC:FIELD of the actuator command, on the sensors' clock
-    mask: str = "s>otsu"             # segmentation rule (softarm.real.segment)
+    mask: str = "auto"               # segmentation rule (softarm.real.segment)
     background: Optional[str] = None  # "median" (of frames across the log) or an image file
     roi: Optional[tuple[int, int, int, int]] = None  # x, y, width, height in the camera's own pixels
     width: int = field(default_factory=lambda: load_config().camera.width)   # the camera size the models use

@@ -42,7 +42,7 @@ def test_an_imported_recording_opens_in_a_plain_mcap_reader(imported):
         images = [img for _, _, _, img in reader.iter_decoded_messages(topics=["/camera/image"])]
         stretch = [json.loads(m.data) for _, _, m in reader.iter_messages(topics=["/arm/stretch"])]
     model = json.loads(meta["softarm"]["model"])
-    assert model["kind"] == "imported" and model["source"]["settings"]["mask"] == "s>otsu"
+    assert model["kind"] == "imported" and model["source"]["settings"]["mask"] == "auto"
     assert len(images) == report.frames - len(report.gaps) and len(stretch) == report.frames
     assert images[0].encoding == "mono8" and (images[0].width, images[0].height) == (52, 84)
     assert meta["softarm.run"] == {"complete": "true", "frames": str(report.frames)}
