@@ -198,17 +198,27 @@ def main_parts(mask: np.ndarray, share: float = 0.25) -> np.ndarray:
 
 
 def _grow(seeds: np.ndarray, inside: np.ndarray) -> np.ndarray:
-    """Every pixel of `inside` 4-connected to a seed."""
+    """Every pixel of `inside` 4-connected to a seed: whole runs along the columns, then along the rows, that hold a
+    reached pixel are reached, until nothing changes (a few passes for an arm, not one per pixel of its length)."""
     while True:
-        step = seeds.copy()
-        step[1:] |= seeds[:-1]
-        step[:-1] |= seeds[1:]
-        step[:, 1:] |= seeds[:, :-1]
-        step[:, :-1] |= seeds[:, 1:]
-        step &= inside
-        if np.array_equal(step, seeds):
+        grown = _runs_reached(_runs_reached(seeds, inside), inside, along_rows=True)
+        if np.array_equal(grown, seeds):
             return seeds
-        seeds = step
+        seeds = grown
+
+
+def _runs_reached(reached: np.ndarray, inside: np.ndarray, along_rows: bool = False) -> np.ndarray:
+    """`reached` spread over every run of `inside` (along the columns, or the rows) that holds a reached pixel."""
+    a, b = (inside.T, reached.T) if not along_rows else (inside, reached)
+    flat_inside, flat_reached = a.ravel(), b.ravel()
+    starts = flat_inside & ~np.concatenate([[False], flat_inside[:-1]])
+    starts[:: a.shape[1]] |= flat_inside[:: a.shape[1]]  # a run never continues across a line's end
+    ids = np.cumsum(starts) * flat_inside
+    hit = np.zeros(int(ids.max()) + 1, bool)
+    hit[ids[flat_reached & flat_inside]] = True
+    hit[0] = False
+    out = hit[ids].reshape(a.shape)
+    return out.T if not along_rows else out
 
 
 def downsample(mask: np.ndarray, width: int, height: int) -> np.ndarray:

@@ -82,3 +82,25 @@ def test_auto_masks_of_other_scenes_match_the_recordings_frames(recordings, tmp_
     k = np.rint((rec.model["source"]["found"]["t0"] - 1_700_000_000.0 + rec.times) / native.frame_dt).astype(int)
     seen = rec.seen & (k < len(native.times))
     assert iou_per_frame(rec.frames[seen].astype(float), native.frames[k[seen]]).mean() > 0.95
+
+
+def test_the_run_spreading_fill_reaches_what_a_breadth_first_search_reaches():
+    from collections import deque
+
+    from softarm.real.segment import _grow
+
+    def search(seeds: np.ndarray, inside: np.ndarray) -> np.ndarray:
+        out, queue = seeds & inside, deque(zip(*np.nonzero(seeds & inside)))
+        while queue:
+            y, x = queue.popleft()
+            for v, u in ((y + 1, x), (y - 1, x), (y, x + 1), (y, x - 1)):
+                if 0 <= v < inside.shape[0] and 0 <= u < inside.shape[1] and inside[v, u] and not out[v, u]:
+                    out[v, u] = True
+                    queue.append((v, u))
+        return out
+
+    rng = np.random.default_rng(0)
+    for _ in range(200):  # random masks around the percolation threshold: long, winding parts
+        inside = rng.random((30, 20)) < rng.uniform(0.3, 0.7)
+        seeds = (rng.random((30, 20)) < 0.02) & inside
+        assert np.array_equal(_grow(seeds, inside), search(seeds, inside))
