@@ -26,6 +26,8 @@ def import_log(
     roi: Annotated[Optional[str], typer.Option(help="Region of interest X,Y,WIDTH,HEIGHT in the camera's pixels, cut before resizing.")] = None,
     frame_dt: Annotated[Optional[str], typer.Option(help="Frame period of the recording in s, or 'camera' for the camera's own; frames between camera images are gaps [default: the config's integration.frame_dt, the stretch's usual rate].")] = None,
     lag: Annotated[Optional[float], typer.Option(help="Seconds the sensors' stamps run ahead of the camera's [default: found by cross-correlation].")] = None,
+    scale: Annotated[Optional[float], typer.Option(help="The camera's pixels per metre in the arm's plane, for tip errors in mm.")] = None,
+    arm_length: Annotated[Optional[float], typer.Option(help="The arm's length as it hangs at rest, top to tip, in m: the scale from the masks, for tip errors in mm.")] = None,
     max_lag: Annotated[float, typer.Option(help="The lag is searched within +-this many seconds.")] = ImportSettings.max_lag,
     preview: Annotated[Optional[Path], typer.Option(help="Write a PNG of a few frames and their masks, and stop (nothing is converted).")] = None,
     force: Force = False,
@@ -41,7 +43,8 @@ def import_log(
     from softarm.real.preview import preview_log
 
     settings = run_or_exit(lambda: ImportSettings(camera, sensors, drive, mask, background, parse_roi(roi),
-                                                  frame_dt=parse_frame_dt(frame_dt), lag=lag, max_lag=max_lag))
+                                                  frame_dt=parse_frame_dt(frame_dt), lag=lag, max_lag=max_lag,
+                                                  scale=scale, arm_length=arm_length))
     if preview is not None:
         written = run_or_exit(lambda: preview_log(log, preview, settings, force=force))
         if not quiet:
@@ -62,6 +65,9 @@ def import_log(
               f"camera image ({len(report.gaps)} without: training skips them); the camera dropped {report.dropped} frame(s)")
     chose = f"auto chose {report.rule} (separability {report.separability:.2f}); " if report.separability is not None else ""
     say(f"mask: {chose}{report.coverage:.1%} of pixels are arm" + (f" (Otsu threshold {report.threshold:.0f})" if report.threshold is not None else ""))
+    if report.pixels_per_metre is not None:
+        say(f"scale: {report.pixels_per_metre:.1f} px/m in the recording's frames "
+            f"({'from --scale' if scale is not None else 'from --arm-length and the masks'})")
     say(f"wrote {report.path}")
 
 
@@ -100,4 +106,5 @@ def robot_log(
         return
     say(f"wrote {made.path}: {made.frames} camera frames on {made.camera_topic}, stretch on "
                f"{made.stretch_topic}, drive on {made.drive_topic}; the arm is in --roi {','.join(map(str, made.roi))}")
-    err.print(f"sensor clock {made.offset * 1e3:+.0f} ms ahead of the camera; {len(made.dropped)} frame(s) dropped")
+    err.print(f"sensor clock {made.offset * 1e3:+.0f} ms ahead of the camera; {len(made.dropped)} frame(s) dropped; "
+              f"the camera's scale in the arm's plane: --scale {made.pixels_per_metre:g}")

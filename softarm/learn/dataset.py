@@ -125,7 +125,7 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
     if not paths:
         raise RecordingError("give at least one recording")
     train, channels = config.train, tuple(channels)
-    sequences, first, imported = [], None, False
+    sequences, first, scales = [], None, set()
     held_out = validation_indices(len(paths), train.validation_recordings)
     progress(0, len(paths))
     for path in map(Path, paths):
@@ -149,10 +149,10 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
         check_fits(seq.name, shape, first[1], channels, first[0])
         check_segments(seq, train)
         sequences.append(seq)
-        imported |= rec.imported
+        scales.add(rec.pixels_per_metre if rec.imported else config.camera.pixels_per_metre)
         progress(len(sequences), len(paths))
-    return Dataset(sequences, channels, list(first[1][1]),
-                   float("nan") if imported else config.camera.pixels_per_metre)
+    scale = scales.pop() if len(scales) == 1 else float("nan")  # one scale for all, or tip errors unknown
+    return Dataset(sequences, channels, list(first[1][1]), scale)
 
 
 def validation_indices(count: int, share: float) -> set[int]:

@@ -45,6 +45,7 @@ class ImportReport:
     coverage: float               # mean share of the camera's pixels that are arm
     rule: str                     # the mask rule applied (the one `auto` chose)
     separability: Optional[float]  # Otsu's separability of the rule `auto` chose (None for a rule given)
+    pixels_per_metre: Optional[float]  # of the recording's frames (from --scale or --arm-length; None: unknown)
 
     def to_dict(self) -> dict[str, Any]:
         return {k: (str(v) if isinstance(v, Path) else v) for k, v in self.__dict__.items()}
@@ -86,7 +87,8 @@ def _import(log_path: Path, out: Path, settings: ImportSettings, progress: Calla
     report = ImportReport(out, len(grid.times), float(grid.times[-1] - grid.times[0]), 1 / camera_period(masks.stamps),
                           rate(sensors.stamps), rate(drive.stamps) if drive is not None else None, dt, lag,
                           settings.lag is None, fit, grid.gaps.tolist(), dropped_frames(masks.stamps), overlap,
-                          camera.threshold, coverage, camera.rule.text, camera.separability)
+                          camera.threshold, coverage, camera.rule.text, camera.separability,
+                          frame_scale(masks, settings))
     source = {"log": str(log_path), "sha256": digest, "settings": settings.to_dict(),
               "found": report.to_dict() | {"t0": float(grid.times[0]), "camera_size": list(masks.size),
                                            "header_stamps": {"camera": masks.header_stamps,
@@ -140,6 +142,23 @@ def check_camera(log: LogFile, settings: ImportSettings) -> None:
                              "images as ROS 2 (cdr), ROS 1 or protobuf messages")
     if topic.messages < 2:
         raise RecordingError(f"--camera: {settings.camera} holds {topic.messages} image(s); a recording needs two or more")
+
+
+def frame_scale(masks: Masks, settings: ImportSettings) -> Optional[float]:
+    """Pixels per metre of the recording's frames: the camera's own (`--scale`) times the shrink from the region of
+    interest to the frames (the geometric mean of the two axes'), or the arm's extent down the frames over its
+    hanging length (`--arm-length`: the 90th percentile over the frames of the rows from its top to its lowest
+    pixel, as the arm hanging straight spans them). None without either: tip errors in mm are then unknown."""
+    if settings.scale is not None:
+        w, h = (settings.roi[2], settings.roi[3]) if settings.roi is not None else masks.size
+        return settings.scale * float(np.sqrt(settings.width / w * settings.height / h))
+    if settings.arm_length is not None:
+        rows = masks.masks.any(axis=2)
+        spans = [int(np.flatnonzero(r)[-1] - np.flatnonzero(r)[0] + 1) for r in rows if r.any()]
+        if not spans:
+            raise RecordingError("--arm-length: the mask is empty in every frame, so the arm's length cannot be read")
+        return float(np.percentile(spans, 90)) / settings.arm_length
+    return None
 
 
 def _suggestion(threshold: Optional[float]) -> str:

@@ -55,6 +55,7 @@ class RobotLog:
     dropped: tuple[int, ...]        # indices of dropped camera frames, in the camera's own sequence
     frames: int                     # camera frames written
     camera_times: np.ndarray        # (frames,) recording time (s) of each written camera frame
+    pixels_per_metre: float         # the camera's own pixels per metre in the arm's plane
 
 
 def _ns(seconds: Any) -> Any:
@@ -158,7 +159,7 @@ def make_robot_log(recording: str | Path, out: str | Path, settings: RobotLogSet
     except Escalated:
         raise Escalated(f"stopped at once by a second stop request; nothing was written to {out}") from None
     return RobotLog(Path(out), _camera_topic(settings)[0], "/arm/stretch", "/arm/command", camera.roi,
-                    settings.sensor_offset, dropped, len(camera_times), camera_times)
+                    settings.sensor_offset, dropped, len(camera_times), camera_times, camera.s * rec.pixels_per_metre)
 
 
 def check_scene(settings: RobotLogSettings) -> None:

@@ -23,6 +23,8 @@ class ImportSettings:
     frame_dt: Optional[float] = field(default_factory=lambda: load_config().integration.frame_dt)  # s; None: the camera's period
     lag: Optional[float] = None      # s the sensors' stamps run ahead of the camera's; None: estimated
     max_lag: float = 0.25            # s: the lag is searched in [-max_lag, max_lag]
+    scale: Optional[float] = None    # px/m: the camera's own pixels per metre in the arm's plane
+    arm_length: Optional[float] = None  # m: the arm's length as it hangs at rest, for the scale from the masks
 
     def __post_init__(self) -> None:
         if self.roi is not None and (len(self.roi) != 4 or min(self.roi[2:]) <= 0 or min(self.roi[:2]) < 0):
@@ -33,6 +35,11 @@ class ImportSettings:
             raise ConfigError(f"--lag {self.lag}: give the clocks' offset in seconds, a finite number")
         if not 0 < self.max_lag <= 60:
             raise ConfigError(f"--max-lag {self.max_lag}: give a search range in seconds, above 0 and at most 60")
+        for option, value in (("--scale", self.scale), ("--arm-length", self.arm_length)):
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise ConfigError(f"{option} {value}: give a positive number ({'px/m' if option == '--scale' else 'm'})")
+        if self.scale is not None and self.arm_length is not None:
+            raise ConfigError("--scale and --arm-length both give the camera's scale: give one")
         if not (0 < self.width <= 4096 and 0 < self.height <= 4096):
             raise ConfigError(f"camera size {self.width}x{self.height} is out of range")
 

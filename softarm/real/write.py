@@ -18,7 +18,9 @@ def write_imported(path: Path, times: np.ndarray, frame_dt: float, frames: np.nd
                    source: dict[str, Any]) -> Path:
     """One file, `.part` until closed; nothing is left behind if writing fails."""
     topics = {STRETCH: JSON_SCHEMAS[STRETCH], **({EXCITATION: JSON_SCHEMAS[EXCITATION]} if drive is not None else {})}
-    model = {"kind": IMPORTED, "camera": {"width": settings.width, "height": settings.height, "world_to_pixel": None},
+    scale = source["found"].get("pixels_per_metre")
+    model = {"kind": IMPORTED, "camera": {"width": settings.width, "height": settings.height, "world_to_pixel": None,
+                                          "pixels_per_metre": scale},
              "frame_dt": frame_dt,
              "sensors": sensors, "gaps": np.flatnonzero(~seen).tolist(), "seed": 0, "disturbances": [],
              "source": source, "softarm_version": __version__}

@@ -53,8 +53,10 @@ class Recording:
 
     @property
     def pixels_per_metre(self) -> float:
-        """NaN without a camera map: tip errors in mm are then NaN, and summaries leave them out."""
-        return float(np.hypot(*self.world_to_pixel[:, 0]))
+        """From the camera's map, or an imported recording's scale; NaN where neither is known: tip errors in mm are
+        then NaN, and summaries leave them out."""
+        scale = self.model["camera"].get("pixels_per_metre")
+        return float(np.hypot(*self.world_to_pixel[:, 0])) if scale is None else float(scale)
 
     def drive(self) -> np.ndarray:
         """(T,) the motor command, or a one-line refusal where the recording has none."""

@@ -4,6 +4,7 @@ and the stretch, judged against the softarm recording the bag was made from."""
 import json
 
 import numpy as np
+import pytest
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
@@ -87,3 +88,24 @@ def test_a_background_frame_is_subtracted(recordings, robot_bag, tmp_path):
     rec = read_recording(tmp_path / "d.mcap")
     k = native_index(rec, native, 1_700_000_000.0)
     assert iou_per_frame(rec.frames[rec.seen].astype(float), native.frames[k[rec.seen]]).mean() > 0.9
+
+
+@pytest.mark.slow
+def test_a_scale_given_or_read_from_the_arms_length_puts_tip_errors_in_mm(recordings, robot_bag, imported, tmp_path):
+    """--scale (the camera's own, as robot-log prints it) gives the native frames' scale exactly; --arm-length (the
+    arm's length as it hangs) reads it from the masks to within the pixel their extent is rounded to."""
+    from softarm.arm.batch import arm_batch
+    from softarm.config import load_config
+    from softarm.real.convert import import_log
+    from softarm.real.settings import ImportSettings
+
+    native = read_recording(recordings / "s0.mcap", nodes=False)
+    hanging = arm_batch(load_config(), seeds=[0]).positions[0][:, 1]
+    base = dict(camera=robot_bag.camera_topic, sensors=f"{robot_bag.stretch_topic}:data", roi=robot_bag.roi)
+    for name, extra, tolerance in (("scale", {"scale": robot_bag.pixels_per_metre}, 1e-9),
+                                   ("length", {"arm_length": float(hanging.max() - hanging.min())}, 0.02)):
+        report = import_log(robot_bag.path, tmp_path / f"{name}.mcap", ImportSettings(**base, **extra))
+        rec = read_recording(tmp_path / f"{name}.mcap")
+        assert rec.pixels_per_metre == report.pixels_per_metre
+        assert abs(rec.pixels_per_metre / native.pixels_per_metre - 1) <= tolerance, (name, rec.pixels_per_metre)
+    assert np.isnan(read_recording(imported[1]).pixels_per_metre)  # without either: unknown
