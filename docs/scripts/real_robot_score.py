@@ -15,7 +15,7 @@ import sys
 import numpy as np
 
 from softarm.imagine.replay import compute_replay
-from softarm.model.metrics import iou_per_frame
+from softarm.model.metrics import frame_scores, iou_per_frame
 from softarm.record.reader import read_recording
 
 START = 1_700_000_000.0  # s: the ROS time of the native recording's t = 0 in `softarm robot-log`'s bags
@@ -35,6 +35,11 @@ def main(native_path: str, native_model: str, imported_path: str, imported_model
     print(f"last 5 s, against the native camera frames: native model {own.iou[last].mean():.3f} "
           f"({int(last.sum())} frames), imported model {imported_iou:.3f} ({int(scored.sum())} frames), "
           f"difference {own.iou[last].mean() - imported_iou:+.3f}")
+    if np.isfinite(rec.pixels_per_metre):  # imported with --scale or --arm-length: tip errors in mm, both models
+        mine = frame_scores(own.imagined[last], native.frames[last], native.pixels_per_metre)["tip_mm"].mean()
+        theirs = frame_scores(replay.imagined[scored], native.frames[k[scored]], rec.pixels_per_metre)["tip_mm"].mean()
+        print(f"tip error, last 5 s, against the native camera frames: native model {mine:.2f} mm, imported model "
+              f"{theirs:.2f} mm (its scale {rec.pixels_per_metre:.1f} px/m, the native {native.pixels_per_metre:.1f})")
     print(f"imported model against its own masks, last 5 s: {replay.metrics['imagination_last_5s']['iou']:.3f}; "
           f"the imported masks against the native frames: {mask_iou:.3f}; lag found "
           f"{rec.model['source']['found']['lag'] * 1e3:.1f} ms")
