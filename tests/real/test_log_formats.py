@@ -80,3 +80,18 @@ def test_no_output_replaces_a_file_of_a_bag_folder(tmp_path):
         with pytest.raises(OutputError, match="is the input"):
             import_log(bag, bag / target, ImportSettings("/camera", "/stretch:data"), force=True)
     assert {p.name: p.read_bytes() for p in bag.iterdir()} == before
+
+
+@pytest.mark.slow
+def test_the_command_line_imports_a_bag_folder_and_refuses_a_picture_in_one_line(robot_bag, tmp_path):
+    from tests.helpers.cli import assert_one_line_error, softarm
+
+    bag = ros2_bag(robot_bag.path, tmp_path / "bag")
+    topics = ("--camera", robot_bag.camera_topic, "--sensors", f"{robot_bag.stretch_topic}:data",
+              "--roi", ",".join(map(str, robot_bag.roi)))
+    done = softarm("import", str(bag), *topics, "--out", "rec.mcap", cwd=tmp_path)
+    assert done.returncode == 0 and read_recording(tmp_path / "rec.mcap").imported, done.stderr
+    (tmp_path / "photo.mcap").write_bytes(b"\xff\xd8\xff\xe0" + bytes(60))
+    assert_one_line_error(softarm("import", "photo.mcap", *topics, "--out", "x.mcap", cwd=tmp_path),
+                          "photo.mcap is a JPEG image, not a log softarm reads")
+    assert not (tmp_path / "x.mcap").exists()
