@@ -97,7 +97,9 @@ def surprise_lines(report: Optional[dict[str, Any]]) -> list[str]:
     return [f"surprise (alarm at {report['thresholds']['suite']:.1f}, {rate['suite']:.2f} false alarms a minute; the "
             f"checkpoint's {report['thresholds']['own']:.1f}, {rate['own']:.2f} a minute): " + "; ".join(
                 f"{name} AUROC {row['auroc']:.2f}{touching(row)}, latency {row['latency_ms_suite']:.0f} ms "
-                f"({row['detected_suite']:.0%} detected)" for name, row in report["families"].items())]
+                f"({row['detected_suite']:.0%} detected)" for name, row in report["families"].items()),
+            "false alarms a minute at the checkpoint's threshold, by undisturbed family: " + ", ".join(
+                f"{name} {rate:.1f}" for name, rate in report["false_alarms_per_minute_by_family"].items())]
 
 
 def touching(row: dict[str, Any]) -> str:

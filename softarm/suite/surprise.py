@@ -93,6 +93,9 @@ def surprise_report(cases: list[CaseSurprise], own_threshold: float, frame_dt: f
     return {"families": families, "thresholds": {"suite": suite_threshold, "own": own_threshold},
             "false_alarms_per_minute": {"suite": alarm_rate(calm, suite_threshold, frame_dt),
                                         "own": alarm_rate(calm, own_threshold, frame_dt)},
+            "false_alarms_per_minute_by_family": {  # at the checkpoint's own threshold: what replay and the streamer do
+                family: alarm_rate([c for c in calm if c.family == family], own_threshold, frame_dt)
+                for family in dict.fromkeys(c.family for c in calm)},
             "per_minute_goal": PER_MINUTE}
 
 

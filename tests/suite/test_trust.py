@@ -82,3 +82,18 @@ def test_a_contact_recording_never_touched_is_disturbed_not_calm():
     case = case_surprise("contact", np.ones(50), targets, t, np.ones((50, 1), bool), [obstacle],
                          touching=np.zeros((50, 1), bool))
     assert case.disturbed and not case.active.any() and case.onsets == [] and case.first_touches == ()
+
+
+def test_false_alarms_are_counted_family_by_family_at_the_checkpoints_threshold():
+    from softarm.suite.surprise import case_surprise, surprise_report
+
+    t, targets = np.arange(600) * 0.01, np.arange(600)
+    jumpy = np.ones(600)
+    jumpy[[100, 101, 300, 450]] = 5.0        # three alarms start above 3 (100-101 is one)
+    cases = [case_surprise("sine_fast", jumpy, targets, t, np.zeros((600, 0), bool), []),
+             case_surprise("multisine_low", np.ones(600), targets, t, np.zeros((600, 0), bool), []),
+             case_surprise("multisine_low", np.where(np.arange(600) == 10, 4.0, 1.0), targets, t,
+                           np.zeros((600, 0), bool), [])]
+    report = surprise_report(cases, 3.0, 0.01)
+    assert report["false_alarms_per_minute_by_family"] == {"sine_fast": 3 / 0.1, "multisine_low": 1 / 0.2}
+    assert report["false_alarms_per_minute"]["own"] == pytest.approx(4 / 0.3)
