@@ -2,7 +2,7 @@
 robot-style log made from a softarm recording for trying that out."""
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated, Any, Optional
 
 import typer
 from softarm_cli.console import complain, err, run_or_exit, say
@@ -54,8 +54,12 @@ def import_log(
         complain("error: give --out REC.mcap to convert (or --preview PNG to look at the masks first)")
         raise typer.Exit(2)
     report = run_or_exit(lambda: convert(log, out_path, settings, force=force))
-    if quiet:
-        return
+    if not quiet:
+        say_import(report, scale is not None)
+
+
+def say_import(report: Any, scale_given: bool) -> None:
+    """What the import found: rates, lag, overlap and gaps, the mask, the scale."""
     drive_rate = f", drive {report.drive_hz:.1f} Hz" if report.drive_hz is not None else ""
     how = "found by cross-correlation" + (f", R^2 {report.lag_fit:.2f}" if report.lag_fit is not None else "")
     say(f"rates: camera {report.camera_hz:.2f} Hz, sensors {report.sensor_hz:.1f} Hz{drive_rate}")
@@ -67,7 +71,7 @@ def import_log(
     say(f"mask: {chose}{report.coverage:.1%} of pixels are arm" + (f" (Otsu threshold {report.threshold:.0f})" if report.threshold is not None else ""))
     if report.pixels_per_metre is not None:
         say(f"scale: {report.pixels_per_metre:.1f} px/m in the recording's frames "
-            f"({'from --scale' if scale is not None else 'from --arm-length and the masks'})")
+            f"({'from --scale' if scale_given else 'from --arm-length and the masks'})")
     say(f"wrote {report.path}")
 
 
@@ -102,9 +106,13 @@ def robot_log(
         scene_rgb=parse_rgb(scene_colour, "--scene-colour"), texture=texture, lighting_drift=lighting_drift,
         motion_blur=motion_blur, distractor=distractor, seed=seed))
     made = run_or_exit(lambda: make_robot_log(recording, out_path, settings, force=force))
-    if quiet:
-        return
+    if not quiet:
+        say_robot_log(made)
+
+
+def say_robot_log(made: Any) -> None:
+    """What a robot log holds, and what `softarm import` should be given to read it."""
     say(f"wrote {made.path}: {made.frames} camera frames on {made.camera_topic}, stretch on "
-               f"{made.stretch_topic}, drive on {made.drive_topic}; the arm is in --roi {','.join(map(str, made.roi))}")
+        f"{made.stretch_topic}, drive on {made.drive_topic}; the arm is in --roi {','.join(map(str, made.roi))}")
     err.print(f"sensor clock {made.offset * 1e3:+.0f} ms ahead of the camera; {len(made.dropped)} frame(s) dropped; "
               f"the camera's scale in the arm's plane: --scale {made.pixels_per_metre:g}")
