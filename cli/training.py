@@ -22,7 +22,7 @@ def train(
     config: ConfigFile = None,
     epochs_ae: Annotated[Optional[int], typer.Option(help=f"Autoencoder epochs [default: {D.train.epochs_ae}].")] = None,
     epochs_lstm: Annotated[Optional[int], typer.Option(help=f"Latent model epochs [default: {D.train.epochs_lstm}].")] = None,
-    model: Annotated[Optional[str], typer.Option(help=f"Latent model: {' | '.join(LATENT_MODELS)} (window: the paper's LSTM over the last --history samples; stream: an LSTM that carries its state through the whole stream; gru: the same with a GRU) [default: {D.train.model}].")] = None,
+    model: Annotated[Optional[str], typer.Option(help=f"Latent model: {' | '.join(LATENT_MODELS)} (window: the paper's LSTM over the last --history samples; stream: an LSTM that carries its state through the whole stream; gru: the same with a GRU; tcn: a causal temporal convolution network over the last 2.56 s) [default: {D.train.model}].")] = None,
     inputs: Annotated[Optional[str], typer.Option(metavar="NAME,...", help=f"Input channels the latent model reads, of {' | '.join(INPUT_CHANNELS)} [default: the stretch for up to 4 recordings, stretch,drive for a corpus].")] = None,
     history: Annotated[Optional[int], typer.Option(help=f"Input samples the window model sees, and the first frame any model imagines [default: {D.train.history}].")] = None,
     include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].", show_default=False)] = None,

@@ -41,3 +41,12 @@ def tiny_window_checkpoint(recordings, tmp_path_factory):
     folder = tmp_path_factory.mktemp("ckpt_window")
     return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "window"}),
                  folder / "tiny_window.pt")
+
+
+@pytest.fixture(scope="session")
+def tiny_tcn_checkpoint(recordings, tmp_path_factory):
+    """The same few seconds of training for the causal convolution network."""
+    from softarm.learn.run import train
+
+    folder = tmp_path_factory.mktemp("ckpt_tcn")
+    return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "tcn"}), folder / "tiny_tcn.pt")

@@ -1,15 +1,16 @@
-"""What every latent model is: a recurrent network from normalised input samples to the normalised latent
-code of a frame, with an error head that predicts its own squared error; and the contract that training,
-replay, evaluation and the streamer use it by.
+"""What every latent model is: a network from normalised input samples to a state, read by a linear head into the
+normalised latent code of a frame and by an error head that predicts its own squared error; and the contract
+that training, replay, evaluation and the streamer use it by.
 
-A model is one subclass (`window.WindowLSTM`, `stream.StreamLSTM`, `stream.StreamGRU`) named in
-`registry.LATENT_MODELS`. Whatever the model, frame k is imagined from the samples up to k - lead
+A model is one subclass named in `registry.LATENT_MODELS`: recurrent ones (`window.WindowLSTM`,
+`stream.StreamLSTM`, `stream.StreamGRU`, on `recurrent.RecurrentModel`) and a causal convolution network
+(`tcn.CausalTCN`). Whatever the model, frame k is imagined from the samples up to k - lead
 (`TrainConfig.lead`), and the first frame imagined is the first a `history`-sample window reaches: every
 model answers for the same frames, beside the same baselines.
 """
 
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar, Iterator, Optional, Sequence
+from typing import Callable, ClassVar, Iterator, Optional, Sequence
 
 import numpy as np
 import torch
@@ -17,7 +18,7 @@ import torch.nn.functional as F
 from torch import nn
 
 from softarm.config import TrainConfig
-from softarm.model.cells import Cell, Readout, cell_of
+from softarm.model.cells import Readout
 from softarm.model.device import device_of
 from softarm.model.prediction import Prediction
 
@@ -39,7 +40,7 @@ class TrainingSeries:
 class OnlineReader:
     """One stream read sample by sample: `step` takes a normalised sample (P,) and returns the latent answer
     (K,) and its log squared errors (K,) for the frame it lets the model imagine, or None before the first;
-    `state_vector` is then the recurrent state that sample left (H,), None before the model has one."""
+    `state_vector` is then the state that sample left (H,), None before the model has one."""
     state_vector: Optional[np.ndarray] = None
 
     def step(self, sample: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
@@ -47,7 +48,7 @@ class OnlineReader:
 
 
 class ErrorHead(nn.Module):
-    """Predicts the log of each latent feature's squared error from the recurrent state it reads, detached:
+    """Predicts the log of each latent feature's squared error from the model's state it reads, detached:
     learning to say how wrong it is never changes what the model predicts. Its prediction is the
     imagined frame's confidence (`Prediction.confidence`)."""
 
@@ -60,24 +61,28 @@ class ErrorHead(nn.Module):
 
 
 class LatentModel(nn.Module):
-    """A recurrent layer (`core`), a linear head to the latent and an error head; its subclass says how it
-    reads a series, how it steps online and how an epoch of its training is cut. With `nodes` > 0 a third
-    head learns the node positions from the same state (`train.node_target`): a training signal only, never
-    part of an answer."""
+    """A network that reads samples into a state of `train.lstm_hidden` features (`make_core`), a linear head
+    to the latent and an error head; its subclass says how it reads a series, how it steps online and how an
+    epoch of its training is cut. With `nodes` > 0 a third head learns the node positions from the same state
+    (`train.node_target`): a training signal only, never part of an answer."""
 
-    core: ClassVar[type[nn.RNNBase]] = nn.LSTM
     clip_norm: ClassVar[Optional[float]] = None  # gradient norm at most while training (None: unclipped)
 
     def __init__(self, inputs: int, outputs: int, train: TrainConfig, nodes: int = 0):
         super().__init__()
-        self.rnn = self.core(inputs, train.lstm_hidden, num_layers=1, batch_first=True)
+        self.make_core(inputs, train.lstm_hidden)
         self.head = nn.Linear(train.lstm_hidden, outputs)
         self.error = ErrorHead(train.lstm_hidden, outputs)
         self.nodes = nn.Linear(train.lstm_hidden, nodes) if nodes else None
         self.settings = train
 
+    def make_core(self, inputs: int, width: int) -> None:
+        """Build the layers from `inputs` features a sample to a state of `width` (made before the heads, so
+        the seed gives every model kind its weights in the same order)."""
+        raise NotImplementedError
+
     def trained_loss(self, states: torch.Tensor, targets: torch.Tensor) -> StepLoss:
-        """The loss of the answers read from recurrent states (..., H) against targets (..., K [+ A]): the
+        """The loss of the answers read from states (..., H) against targets (..., K [+ A]): the
         latent's, plus `node_target` times the node head's mean squared error where the model has one."""
         k = self.head.out_features
         loss, reported, items = latent_loss(self.head(states), self.error(states), targets[..., :k])
@@ -97,10 +102,6 @@ class LatentModel(nn.Module):
     @property
     def lead(self) -> int:
         return self.settings.lead
-
-    def cell(self) -> Cell:
-        """A NumPy step of this model's recurrent layer (`core`), for the online readers."""
-        return cell_of(self.rnn)
 
     def readout(self) -> Readout:
         """Its latent and error heads in NumPy, for the online readers."""
@@ -134,7 +135,7 @@ class LatentModel(nn.Module):
         raise NotImplementedError
 
     def states(self, series: np.ndarray) -> np.ndarray:
-        """(T, H) float64: the recurrent state the answer after each sample of a normalised series (T, P) reads;
+        """(T, H) float64: the state the answer after each sample of a normalised series (T, P) reads;
         NaN where the model has none yet. The surprise's memory check (`softarm.model.memory_check`) and adaptation
         (`softarm.learn.adapt`) read it."""
         raise NotImplementedError
@@ -165,7 +166,3 @@ def latent_loss(mean: torch.Tensor, log_error: torch.Tensor, target: torch.Tenso
     error = (mean.detach() - target).square()
     return mse + (log_error + error * torch.exp(-log_error)).mean(), mse.item(), len(target)
 
-
-def detached(state: Any) -> Any:
-    """A recurrent state cut from its graph: (h, c) for an LSTM, h for a GRU."""
-    return tuple(h.detach() for h in state) if isinstance(state, tuple) else state.detach()

@@ -13,6 +13,7 @@ LATENT_MODELS = {
     "window": "softarm.model.window:WindowLSTM",    # the paper's LSTM over the last `history` samples
     "stream": "softarm.model.stream:StreamLSTM",    # an LSTM that carries its state through the whole stream
     "gru": "softarm.model.stream:StreamGRU",        # the same with a GRU layer
+    "tcn": "softarm.model.tcn:CausalTCN",           # a causal temporal convolution network over the last 2.56 s
 }
 INPUT_CHANNELS = {
     "stretch": "softarm.model.inputs:Stretch",      # the stretch sensors, read as [sensing] says

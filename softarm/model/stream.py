@@ -15,13 +15,14 @@ from torch import nn
 from softarm.config import TrainConfig
 from softarm.model import pieces
 from softarm.model.device import array_of, tensor_on
-from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries, detached
+from softarm.model.latent import OnlineReader, Order, Step, StepLoss, TrainingSeries
 from softarm.model.prediction import Prediction
+from softarm.model.recurrent import RecurrentModel, detached
 
 STREAMS = 64  # series read side by side when answering
 
 
-class StreamModel(LatentModel):
+class StreamModel(RecurrentModel):
     clip_norm = 1.0
 
     def forward(self, samples: torch.Tensor, state: Any = None) -> tuple[torch.Tensor, torch.Tensor, Any]:

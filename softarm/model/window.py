@@ -12,12 +12,13 @@ import torch
 from softarm.config import TrainConfig
 from softarm.model.autoencoder import in_batches
 from softarm.model.device import array_of, tensor_on
-from softarm.model.latent import LatentModel, OnlineReader, Order, Step, TrainingSeries
+from softarm.model.latent import OnlineReader, Order, Step, TrainingSeries
 from softarm.model.prediction import Prediction
+from softarm.model.recurrent import RecurrentModel
 from softarm.model.windows import input_windows, window_count
 
 
-class WindowLSTM(LatentModel):
+class WindowLSTM(RecurrentModel):
     def forward(self, windows: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         """(B, history, P) -> predicted latents (B, K) and their log squared errors (B, K)."""
         states, _ = self.rnn(windows)

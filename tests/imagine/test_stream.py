@@ -1,5 +1,5 @@
 """Online imagination gives, sample by sample, the frames, confidences, surprises and alarms a batch replay gives
-from the same signals, for either model."""
+from the same signals, for every model kind."""
 
 import numpy as np
 import pytest
@@ -12,7 +12,7 @@ from softarm.record.reader import read_recording
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("fixture", ["tiny_window_checkpoint", "tiny_checkpoint"])
+@pytest.mark.parametrize("fixture", ["tiny_window_checkpoint", "tiny_checkpoint", "tiny_tcn_checkpoint"])
 def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
     imaginer = TrainedModel(request.getfixturevalue(fixture).checkpoint).imaginer
     stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch
@@ -36,8 +36,9 @@ def test_streamed_frames_equal_the_batch_replays(recordings, fixture, request):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("fixture, remembers", [("tiny_window_checkpoint", False), ("tiny_checkpoint", True)])
-def test_only_the_stream_model_remembers_samples_older_than_its_window(recordings, fixture, remembers, request):
+@pytest.mark.parametrize("fixture, remembers", [("tiny_window_checkpoint", False), ("tiny_checkpoint", True),
+                                                ("tiny_tcn_checkpoint", True)])
+def test_only_the_memory_models_remember_samples_older_than_the_window(recordings, fixture, remembers, request):
     imaginer = TrainedModel(request.getfixturevalue(fixture).checkpoint).imaginer
     stretch = read_recording(recordings / "s1.mcap", nodes=False).stretch
     changed = stretch.copy()
