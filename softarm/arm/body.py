@@ -4,12 +4,13 @@ Everything downstream (the Taichi simulator, the NumPy reference, the recorder) 
 the geometry is built once, here, from the config.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from softarm.config import Config
 from softarm.errors import ConfigError
+from softarm.sensors import KINDS
 
 
 @dataclass(frozen=True)
@@ -24,6 +25,8 @@ class Body:
     sensors: np.ndarray       # (P, 2) node index pairs
     outline: np.ndarray       # (V,) node indices of the closed outline polygon
     gravity: np.ndarray       # (2,) m/s^2
+    # the other sensor kinds' placements, by kind (softarm.sensors), for those [sensors] declares
+    placed: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def n_nodes(self) -> int:
@@ -68,10 +71,12 @@ def build_body(config: Config) -> Body:
     if len(outline) < 3:
         raise ConfigError(f"config key 'camera.outline' = {outline.tolist()} needs at least 3 nodes")
 
+    placed = {name: kind().check(getattr(config.sensors, name), n, f"sensors.{name}")
+              for name, kind in KINDS.items() if getattr(config.sensors, name)}
     s = len(springs)
     return Body(rest=rest, masses=np.full(n, b.node_mass), springs=springs, rest_lengths=rest_lengths,
                 stiffness=np.full(s, config.springs.stiffness), damping=np.full(s, config.springs.damping),
-                driven=driven, sensors=sensors, outline=outline, gravity=np.array(b.gravity, float))
+                driven=driven, sensors=sensors, outline=outline, gravity=np.array(b.gravity, float), placed=placed)
 
 
 def default_outline(node: np.ndarray) -> np.ndarray:

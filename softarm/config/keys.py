@@ -59,9 +59,9 @@ def seed() -> Rule:
 
 def require(key: str, value: Any, where: Optional[str] = None) -> None:
     """Refuse `value` of `key` (named `where` in the message, e.g. an array table's `muscles.groups[2].rows`) when
-    it breaks the key's declared rule."""
+    it breaks the key's declared rule (an optional key left out, None, has nothing to break)."""
     rule = KEYS[key].rule
-    if rule is not None and not rule.ok(value):
+    if rule is not None and value is not None and not rule.ok(value):
         shown = [list(v) if isinstance(v, tuple) else v for v in value] if isinstance(value, tuple) else value
         raise ConfigError(f"config key '{where or key}' = {shown!r} is out of range: {rule.text}")
 
@@ -121,6 +121,9 @@ KEYS: dict[str, Key] = {
     "sensing.dropout_sensor": Key(rule=Rule("must be a sensor index, or -1 for none", lambda v: v >= -1)),
     "sensing.dropout_time": Key("s", NON_NEGATIVE),
     "sensing.seed": Key(rule=seed()),
+    "sensors.bend": Key(),
+    "sensing.bend": Key(),
+    "sensing.bend_noise": Key("rad", NON_NEGATIVE),
     "camera.width": Key("px", ONE_OR_MORE),
     "camera.height": Key("px", ONE_OR_MORE),
     "camera.pixels_per_metre": Key("px/m", POSITIVE),

@@ -52,6 +52,7 @@ class ExcitationConfig:
 @dataclass(frozen=True)
 class SensorsConfig:
     pairs: tuple[tuple[int, int], ...]
+    bend: Union[tuple[tuple[int, int, int], ...], None] = None  # bend sensors recorded on /arm/bend (softarm.sensors)
 
 
 @dataclass(frozen=True)
@@ -64,6 +65,8 @@ class SensingConfig:
     dropout_sensor: int
     dropout_time: float
     seed: int
+    bend: Union[tuple[tuple[int, int, int], ...], None] = None  # bend sensors recomputed from the node positions
+    bend_noise: Union[float, None] = None  # rad: white noise of each bend reading
 
 
 @dataclass(frozen=True)

@@ -26,10 +26,10 @@ Part = tuple[np.ndarray, np.ndarray]  # normalised inputs (T, F), undisturbed (T
 
 
 def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
-    """None when the model reads no stretch (nothing felt to be surprised by)."""
+    """None when the model reads no sensor (nothing felt to be surprised by)."""
     data, t = state.data, state.config.train
     columns = np.cumsum([0, *data.widths])
-    felt = [c for ch, a, b in zip(data.channels, columns, columns[1:]) if ch.name == "stretch" for c in range(a, b)]
+    felt = [c for ch, a, b in zip(data.channels, columns, columns[1:]) if ch.felt for c in range(a, b)]
     command = [c for c in range(columns[-1]) if c not in felt]
     if not felt:
         return None

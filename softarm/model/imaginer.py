@@ -102,8 +102,10 @@ class Imaginer:
         training's: its surprise expects that noise (`SurpriseModel.heard_through`); nothing else changes."""
         if self.surprise is None or variance <= 0.0:
             return self
-        spread = self.inputs.spread[list(self.surprise.felt)]
-        return replace(self, surprise=self.surprise.heard_through(variance / spread ** 2))
+        felt = list(self.surprise.felt)
+        stretch = np.concatenate([np.full(w, c.name == "stretch") for c, w in zip(self.inputs.channels, self.inputs.widths)])
+        added = np.where(stretch[felt], variance / self.inputs.spread[felt] ** 2, 0.0)  # other kinds: not in m
+        return replace(self, surprise=self.surprise.heard_through(added))
 
     @property
     def confidence(self) -> Callable[[Prediction], np.ndarray]:

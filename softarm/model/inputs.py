@@ -14,7 +14,8 @@ from softarm.config import Config
 from softarm.errors import RecordingError
 from softarm.model.registry import input_channel_class
 from softarm.model.scaler import Scaler
-from softarm.sense.reading import needs_nodes, sensed_stretch, sensor_count
+from softarm.sense.reading import kind_count, needs_nodes, sensed_kind, sensed_stretch, sensor_count
+from softarm.sensors import KINDS
 
 if TYPE_CHECKING:
     from softarm.record.reader import Recording
@@ -27,6 +28,7 @@ class InputChannel:
     """One signal a latent model reads: how many features a recording gives and how they are read."""
     name: ClassVar[str]
     what: ClassVar[str]  # its features, as an error message names them
+    felt: ClassVar[bool] = False  # a sensor's reading (what the surprise predicts), not a command
 
     def features(self, model: dict[str, Any], config: Config) -> int:
         """How many features a recording with this model document gives (read before its frames)."""
@@ -45,6 +47,7 @@ class Stretch(InputChannel):
     """The stretch sensors, as the [sensing] section reads them (pairs, imperfections)."""
     name = "stretch"
     what = "stretch sensors"
+    felt = True
 
     def features(self, model: dict[str, Any], config: Config) -> int:
         return sensor_count(model, config.sensing)
@@ -54,6 +57,25 @@ class Stretch(InputChannel):
 
     def needs_nodes(self, config: Config) -> bool:
         return needs_nodes(config.sensing)
+
+
+class SensorInput(InputChannel):
+    """The readings of a sensor kind other than the stretch (softarm.sensors), as [sensing] reads them."""
+    felt = True
+
+    def features(self, model: dict[str, Any], config: Config) -> int:
+        return kind_count(model, KINDS[self.name](), config.sensing)
+
+    def read(self, recording: "Recording", config: Config) -> np.ndarray:
+        return sensed_kind(recording, KINDS[self.name](), config.sensing)
+
+    def needs_nodes(self, config: Config) -> bool:
+        return bool(getattr(config.sensing, self.name))
+
+
+class Bend(SensorInput):
+    name = "bend"
+    what = "bend sensors"
 
 
 class Drive(InputChannel):

@@ -17,6 +17,7 @@ LATENT_MODELS = {
 }
 INPUT_CHANNELS = {
     "stretch": "softarm.model.inputs:Stretch",      # the stretch sensors, read as [sensing] says
+    "bend": "softarm.model.inputs:Bend",            # the bend sensors (softarm.sensors), read as [sensing] says
     "drive": "softarm.model.inputs:Drive",          # the motor command: the top's displacement
     "drive_rate": "softarm.model.inputs:DriveRate",  # its rate, by a backward difference
     "activation": "softarm.model.inputs:Activation",  # a commanded arm's muscle activations (softarm.envs)

@@ -8,6 +8,7 @@ import numpy as np
 
 from softarm.errors import RecordingError
 from softarm.record.format import IMPORTED
+from softarm.sensors import declared
 
 MAX_PIXELS = 1 << 26  # per frame: a larger camera in a document is damage, not a camera
 
@@ -31,6 +32,8 @@ def check_model(model: Any, path: Path) -> dict[str, Any]:
     for key in ("sensors", "springs"):
         require(_indices(model.get(key), len(nodes), 2), key)
     require(_indices(model.get("outline"), len(nodes), None), "outline")
+    for kind in declared(model):  # the other sensor kinds' placements (softarm.sensors)
+        require(_indices(model[kind.name], len(nodes), kind.width), kind.name)
     require(_int(model.get("seed", 0)) and model.get("seed", 0) >= 0, "seed")
     require(isinstance(model.get("excitation", {}), dict), "excitation")
     disturbances = model.get("disturbances", [])

@@ -3,7 +3,12 @@
 /3 adds the disturbances to /2: their list in the model metadata and `/arm/disturbance` on every frame.
 """
 
+from typing import TYPE_CHECKING
+
 import orjson
+
+if TYPE_CHECKING:
+    from softarm.sensors import SensorKind
 
 FORMAT = "softarm-recording/3"
 FORMAT_NAME, FORMAT_VERSION = FORMAT.split("/")
@@ -63,6 +68,14 @@ CONTACT_SCHEMA = {DISTURBANCE: ("softarm.Disturbance", json_schema(
                 "description": "indices into the model metadata's disturbances"},
      "touching": {"type": "array", "items": {"type": "integer", "minimum": 0},
                   "description": "the active obstacles that some free node is inside (|x - centre| < radius)"}}))}
+
+
+
+def sensor_schema(kind: "SensorKind") -> dict[str, tuple[str, bytes]]:
+    """The channel of a sensor kind other than the stretch (softarm.sensors), in the recordings that place it."""
+    return {kind.topic: (kind.title, json_schema(kind.title, kind.description, {
+        kind.field: {**_NUMBERS, "description": f"one reading per sensor of the model's `{kind.name}`, {kind.unit}"}}))}
+
 
 ACTIVATION_SCHEMA = {ACTIVATION: ("softarm.Activation", json_schema(
     "softarm.Activation", "The muscles of a commanded arm (docs/model.md, Muscles), one value per group",

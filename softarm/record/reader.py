@@ -35,6 +35,7 @@ from softarm.record.format import (
 from softarm.record.imported import imported_recording
 from softarm.record.recording import Recording, TruncatedRecordingWarning
 from softarm.record.scan import file_records
+from softarm.sensors import KINDS, declared
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
 
@@ -58,12 +59,14 @@ def read_recording(path: Union[str, Path], nodes: bool = True) -> Recording:
         for topic in (STRETCH, EXCITATION, ACTIVATION))
     positions = node_positions(messages[NODES], stamps, len(model["nodes"]), path) if messages.get(NODES) else None
     active, touching = _disturbance(messages.get(DISTURBANCE, {}), stamps, model, path)
+    sensed = {kind.name: signal_values(messages[kind.topic], stamps, (kind.field,), (len(model[kind.name]),),
+                                       kind.topic, path) for kind in declared(model)}
     if truncated:
         warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
                       stacklevel=2)
     return Recording(path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames, stretch=stretch,
                      displacement=displacement, positions=positions if nodes else None, complete=complete,
-                     truncated=truncated, active=active, activation=activation, touching=touching)
+                     truncated=truncated, active=active, activation=activation, touching=touching, sensed=sensed)
 
 
 def read_model(path: Union[str, Path]) -> dict[str, Any]:
@@ -97,11 +100,12 @@ def _topics(nodes: bool, model: Optional[dict[str, Any]] = None) -> tuple[str, .
     """The topics every frame has: /3 adds the disturbance channel (its model lists `disturbances`)."""
     topics = TOPICS if nodes else tuple(t for t in TOPICS if t != NODES)
     topics = (*topics, DISTURBANCE) if model is not None and "disturbances" in model else topics
+    topics = (*topics, *(kind.topic for kind in declared(model))) if model is not None else topics
     return (*topics, ACTIVATION) if model is not None and "muscles" in model else topics
 
 
 def _scan(path: Path, nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, str]], dict[str, dict[int, bytes]], bool]:
-    wanted = (*_topics(nodes), DISTURBANCE, ACTIVATION)
+    wanted = (*_topics(nodes), DISTURBANCE, ACTIVATION, *(kind.topic for kind in KINDS.values()))
     model = run = None
     channels: dict[int, str] = {}
     messages: dict[str, dict[int, bytes]] = {t: {} for t in wanted}

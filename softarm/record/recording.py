@@ -31,6 +31,7 @@ class Recording:
     # (T, D) bool: the arm touches obstacle d at frame k (the label of contact; False for every other kind); None
     # where the file has obstacles but was written before `touching` was defined (unknown)
     touching: Optional[np.ndarray] = None
+    sensed: dict[str, np.ndarray] = field(default_factory=dict)  # (T, S) the other sensor kinds' readings, by kind
 
     def __post_init__(self) -> None:
         if len(self.seen) != len(self.times):  # a simulated recording sees every frame

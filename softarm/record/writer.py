@@ -30,9 +30,11 @@ from softarm.record.format import (
     NODES,
     POSITION_DECIMALS,
     STRETCH,
+    sensor_schema,
 )
 from softarm.record.frames import FRAME_TOPICS, encode_frames
 from softarm.record.mcap_file import McapFile
+from softarm.sensors import declared
 
 if TYPE_CHECKING:
     from softarm.disturbances import Disturbance
@@ -52,7 +54,8 @@ class ArmMetadata:
         self.body = {"nodes": body.rest.tolist(), "masses": body.masses.tolist(), "springs": body.springs.tolist(),
                      "rest_lengths": body.rest_lengths.tolist(), "stiffness": body.stiffness.tolist(),
                      "damping": body.damping.tolist(), "driven": body.driven.tolist(), "gravity": body.gravity.tolist()}
-        self.sensing = {"sensors": body.sensors.tolist(), "outline": body.outline.tolist(),
+        self.sensing = {"sensors": body.sensors.tolist(), **{name: p.tolist() for name, p in body.placed.items()},
+                        "outline": body.outline.tolist(),
                         "camera": {"width": config.camera.width, "height": config.camera.height,
                                    "world_to_pixel": world_to_pixel(config.camera).tolist()},
                         "frame_dt": config.integration.frame_dt, "substeps": config.integration.substeps,
@@ -79,8 +82,11 @@ class RecordingWriter:
         self._obstacles = [(i, np.array(d["centre"], float), float(d["radius"]))
                            for i, d in enumerate(disturbances) if d.get("kind") == "obstacle"]
         self._free = np.setdiff1d(np.arange(len(model["nodes"])), model["driven"]) if self._obstacles else None
+        rest = np.asarray(model["nodes"], np.float64)
+        self._sensors = [(kind, np.asarray(model[kind.name], np.int64), rest) for kind in declared(model)]
         schemas = {**JSON_SCHEMAS, **(ACTIVATION_SCHEMA if "muscles" in model else {}),
-                   **(CONTACT_SCHEMA if self._obstacles else {})}
+                   **(CONTACT_SCHEMA if self._obstacles else {}), **{k: v for kind, _, _ in self._sensors
+                                                                     for k, v in sensor_schema(kind).items()}}
         self._mcap = McapFile(self.path, (IMAGE,), schemas)
         self._mcap.writer.add_metadata(META_MODEL, {"format": FORMAT, "model": orjson.dumps(model).decode()})
         self._windows = [(d["start"], np.inf if d["end"] is None else d["end"]) for d in disturbances]
@@ -104,7 +110,7 @@ class RecordingWriter:
         stretch, positions, displacement = (np.ascontiguousarray(a, np.float64) for a in (stretch, positions, displacement))
         active = self._active(n)
         touching = self._touching(positions, active) if self._obstacles else None
-        encoded = None if muscles is not None else encode_frames(
+        encoded = None if muscles is not None or self._sensors else encode_frames(
             stamps, tuple(self._mcap.channels[topic] for topic in FRAME_TOPICS),
             self._mcap.image_encoder(*images.shape[1:]), images, stretch, positions, displacement, active, touching)
         if encoded is not None:
@@ -128,6 +134,9 @@ class RecordingWriter:
             EXCITATION: [dumps({"t": t, "displacement": float(d)}) for t, d in zip(seconds, displacement)],
             DISTURBANCE: [dumps({"t": t, "active": a}) for t, a in zip(seconds, active)] if touching is None else
                          [dumps({"t": t, "active": a, "touching": c}) for t, a, c in zip(seconds, active, touching)]}
+        for kind, placements, rest in self._sensors:  # the other sensor kinds, read from the simulated positions
+            readings = np.ascontiguousarray(kind.ideal(positions, rest, placements), np.float64)
+            messages[kind.topic] = [dumps({"t": t, kind.field: r}, option=numpy) for t, r in zip(seconds, readings)]
         if muscles is not None:
             command, activation = (np.ascontiguousarray(m, np.float64) for m in muscles)
             messages[ACTIVATION] = [dumps({"t": t, "command": u, "activation": a}, option=numpy)

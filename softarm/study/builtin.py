@@ -1,7 +1,8 @@
 """The built-in studies, and finding a study by name or TOML file.
 
 Each asks one question of the imagination, everything else at its defaults:
-- `sensors`: how many stretch sensors, and where (1 to 16; along the edges, spread, random).
+- `sensors`: how many stretch sensors, and where (1 to 16; along the edges, spread, random); and bend sensors
+  down the middle column instead (1 to 8), each kind read beside the drive.
 - `noise`: how much it suffers from imperfect sensors (white noise, drift, one sensor stuck), trained
   and scored with the same imperfections.
 - `history`: how many past stretch samples the window model needs, and the stream model beside it.
@@ -13,10 +14,11 @@ from typing import Callable, Union
 
 from softarm.config import load_config
 from softarm.errors import ConfigError
-from softarm.study.placements import PLACEMENTS, sensor_pairs
+from softarm.study.placements import PLACEMENTS, bend_triples, sensor_pairs
 from softarm.study.plan import Study, Trial, read_study
 
 SENSOR_COUNTS = (1, 2, 4, 8, 16)
+BEND_COUNTS = (1, 2, 4, 8)
 NOISE_UM = (0, 10, 30, 100, 300)    # white noise; the signals' spread is 0.7-1.5 mm
 DRIFT_UM = (5, 20, 50)              # per sqrt(s)
 STUCK = {0: "upper left", 2: "lower left"}  # the right edge mirrors the left
@@ -28,8 +30,10 @@ def sensors() -> Study:
     config = load_config()
     trials = tuple(Trial(f"{placement}{n}", n, placement, {"sensing.pairs": sensor_pairs(placement, n, config)})
                    for placement in PLACEMENTS for n in SENSOR_COUNTS)
-    return Study("sensors", "sensor count", "stretch sensors: how many, and where", trials,
-                 tuple(f"{p}{n}" for p in PLACEMENTS for n in (2, 8)))
+    bend = tuple(Trial(f"bend{n}", n, "bend (middle column)",
+                       {"sensing.bend": bend_triples(n, config), "train.inputs": ["bend", "drive"]}) for n in BEND_COUNTS)
+    return Study("sensors", "sensor count", "stretch or bend sensors: how many, and where", trials + bend,
+                 (*(f"{p}{n}" for p in PLACEMENTS for n in (2, 8)), "bend2", "bend4"))
 
 
 def noise() -> Study:

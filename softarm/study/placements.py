@@ -8,6 +8,9 @@ every sensor measures a real stretch along the arm.
 - `spread`: one segment after another down the whole arm, taking the left edge, the right edge and the
   middle column in turn: every part of the arm gets a sensor, on every line of it.
 - `random`: seeded random pairs of nearby nodes (at most MAX_SPAN rows apart, any columns).
+
+Bend sensors (`bend_triples`) lie along the middle column, rows 1 to the tip cut into equal segments, each
+sensor reading the turn between its segment's ends.
 """
 
 import numpy as np
@@ -31,6 +34,17 @@ def sensor_pairs(placement: str, count: int, config: Config) -> list[list[int]]:
     if placement == "random":
         return _random_pairs(count, columns, rows)
     raise ValueError(f"unknown placement {placement!r}")
+
+
+def bend_triples(count: int, config: Config) -> list[list[int]]:
+    """`count` bend sensors [top, middle, bottom] down the middle column, one a segment of the arm."""
+    rows, columns = config.body.rows, config.body.columns
+    if not 1 <= count <= (rows - 2) // 2:
+        raise ValueError(f"{count} bend sensors of two rows or more do not fit between rows 1 and {rows - 1}")
+    bounds = [1 + (rows - 2) * k // count for k in range(count + 1)]
+    middle = columns // 2
+    return [[row * columns + middle for row in (top, (top + bottom) // 2, bottom)]
+            for top, bottom in zip(bounds[:-1], bounds[1:])]
 
 
 def _segments(count: int, lines: list[int], columns: int, rows: int) -> list[list[int]]:

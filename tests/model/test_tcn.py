@@ -8,8 +8,8 @@ import torch
 from softarm.config import load_config
 from softarm.model.latent import TrainingSeries
 from softarm.model.tcn import CausalTCN
-from softarm.model.tcn.network import RECEPTIVE
 from softarm.model.tcn.rows import ROW, cut, per_step, starts
+from softarm.model.tcn.shape import RECEPTIVE
 
 
 def _model(inputs: int = 3, width: int = 16) -> CausalTCN:

@@ -3,7 +3,7 @@ and the RECEPTIVE - 1 before it, nothing later and nothing older.
 
 Its memory is a fixed window, as the paper's window model's, but 2.56 s long instead of 60 ms; unlike the stream
 models it needs no state carried from the stream's first sample, so every sample of a series is read at once in
-training and replay. Its shape is this module's (KERNEL, DILATIONS); its width is `train.lstm_hidden`, the state
+training and replay. Its shape is `shape`'s (KERNEL, DILATIONS); its width is `train.lstm_hidden`, the state
 every head, the surprise and adaptation read.
 """
 
@@ -19,11 +19,9 @@ from softarm.config import TrainConfig
 from softarm.model.device import array_of, tensor_on
 from softarm.model.latent import LatentModel, OnlineReader, Order, Step, StepLoss, TrainingSeries
 from softarm.model.prediction import Prediction
-from softarm.model.tcn import rows
-
-KERNEL = 2                                   # taps of each convolution
-DILATIONS = (1, 2, 4, 8, 16, 32, 64, 128)    # one layer each: the receptive field doubles layer by layer
-RECEPTIVE = 1 + (KERNEL - 1) * sum(DILATIONS)  # 256 samples (2.56 s at 100 Hz) shape one state
+from softarm.model.tcn.reader import TcnReader
+from softarm.model.tcn.rows import ROW, cut, per_step, row_steps
+from softarm.model.tcn.shape import DILATIONS, KERNEL, RECEPTIVE
 
 
 class CausalTCN(LatentModel):
@@ -58,8 +56,6 @@ class CausalTCN(LatentModel):
         return out
 
     def online(self) -> OnlineReader:
-        from softarm.model.tcn.reader import TcnReader
-
         return TcnReader(self)
 
     def latents_at(self, series: torch.Tensor, samples: torch.Tensor) -> torch.Tensor:
@@ -72,20 +68,20 @@ class CausalTCN(LatentModel):
     @classmethod
     def steps_per_epoch(cls, train_ends: Sequence[int], train: TrainConfig,
                         seen: Sequence[Optional[np.ndarray]] = ()) -> int:
-        return rows.steps_per_epoch(train_ends, seen, train)
+        return row_steps(train_ends, seen, train)
 
     def epoch(self, series: Sequence[TrainingSeries], order: Order) -> Callable[[int], Iterator[Step]]:
-        """Shuffled batches of rows (`rows`), each row's samples read at once."""
-        batch = rows.cut(series, self.settings, RECEPTIVE, self.device)  # on the device once, for every epoch
+        """Shuffled batches of rows (`rows.cut`), each row's samples read at once."""
+        batch = cut(series, self.settings, RECEPTIVE, self.device)  # on the device once, for every epoch
 
         def step(index: torch.Tensor) -> StepLoss:
             index = index.to(batch.samples.device)
             scored = batch.scored[index]
             return self.trained_loss(self.features(batch.samples[index])[scored], batch.targets[index][scored])
 
-        size = rows.per_step(self.settings)
+        size = per_step(self.settings)
         return lambda number: (partial(step, i) for i in torch.split(order(len(batch.samples), number), size))
 
     @classmethod
     def dummy_batch(cls, train: TrainConfig, inputs: int) -> torch.Tensor:
-        return torch.zeros(rows.per_step(train), RECEPTIVE - 1 + rows.ROW, inputs)
+        return torch.zeros(per_step(train), RECEPTIVE - 1 + ROW, inputs)

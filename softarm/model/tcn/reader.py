@@ -3,16 +3,19 @@ dilated taps will read (a ring of (KERNEL - 1) x dilation + 1 samples), so a ste
 a layer instead of a pass over the whole receptive field. The rings start at zero, as the batch pass pads a
 series, so the answers equal `CausalTCN.answer`'s to float32 rounding (tests/model/test_tcn.py)."""
 
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
 from softarm.model.latent import OnlineReader
-from softarm.model.tcn.network import DILATIONS, KERNEL, CausalTCN
+from softarm.model.tcn.shape import DILATIONS, KERNEL
+
+if TYPE_CHECKING:
+    from softarm.model.tcn.network import CausalTCN
 
 
 class TcnReader(OnlineReader):
-    def __init__(self, model: CausalTCN):
+    def __init__(self, model: "CausalTCN"):
         self.model = model
         self.readout = model.readout()
         # conv weight (H, C, KERNEL) -> (KERNEL x C, H): the taps, oldest first, as one vector times one matrix

@@ -45,7 +45,7 @@ def starts(train_ends: Sequence[int], seen: Sequence[Optional[np.ndarray]], lead
     return out
 
 
-def steps_per_epoch(train_ends: Sequence[int], seen: Sequence[Optional[np.ndarray]], train: TrainConfig) -> int:
+def row_steps(train_ends: Sequence[int], seen: Sequence[Optional[np.ndarray]], train: TrainConfig) -> int:
     return math.ceil(len(starts(train_ends, seen, train.lead)) / per_step(train))
 
 
