@@ -18,10 +18,10 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from softarm.arm.batch import ArmBatch
 from softarm.arm.body import Body
 from softarm.arm.drive import Drive
 from softarm.config import Config
+from softarm.sim.batch import ArmBatch
 
 SOURCE = Path(__file__).with_name("physics_reference.c")
 FLAGS = ("-O3", "-march=native", "-shared", "-fPIC")

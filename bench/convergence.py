@@ -13,8 +13,8 @@ import time
 
 import numpy as np
 
-from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.config import load_config, override
+from softarm.sim.batch import ArmBatch, arm_batch
 from softarm.sim.physics import Simulator
 from softarm.sim.runtime import init_taichi
 

@@ -18,9 +18,9 @@ import gymnasium
 import numpy as np
 
 import softarm.envs  # noqa: F401  (registers the ids)
-from softarm.arm.batch import arm_batch
 from softarm.arm.muscles import build_muscles
 from softarm.config import Config, load_config
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 from softarm.sim.runtime import init_taichi
 

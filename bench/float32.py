@@ -10,8 +10,8 @@ import time
 
 import numpy as np
 
-from softarm.arm.batch import arm_batch
 from softarm.config import load_config
+from softarm.sim.batch import arm_batch
 
 
 def run(dtype: type, frames: int) -> np.ndarray:

@@ -26,7 +26,7 @@ def step_of(network: str, size: int, device: torch.device) -> Callable[[], None]
     from softarm.config import load_config
     from softarm.learn.train_state import adam
     from softarm.model.autoencoder import Autoencoder
-    from softarm.model.registry import latent_model_class
+    from softarm.registry import latent_model_class
 
     config = load_config()
     t = config.train

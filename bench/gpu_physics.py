@@ -27,8 +27,8 @@ def scaling(arch: str, arms_list: list[int], frames: int) -> dict[int, float]:
     """Spring updates per second of each batch on one backend (in the child process): the best of three blocks of
     `frames` frames after one that compiles and warms up; a CPU batch predicted to take over BLOCK_SECONDS a block
     is skipped."""
-    from softarm.arm.batch import arm_batch
     from softarm.config import load_config
+    from softarm.sim.batch import arm_batch
     from softarm.sim.physics import Simulator
     from softarm.sim.runtime import init_taichi
 

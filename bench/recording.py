@@ -7,10 +7,10 @@ from pathlib import Path
 
 import numpy as np
 
-from softarm.arm.batch import arm_batch
 from softarm.arm.sensors import stretch
 from softarm.record import frames
 from softarm.record.writer import RecordingWriter, model_metadata
+from softarm.sim.batch import arm_batch
 from softarm.sim.budget import MAX_BLOCK_FRAMES
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser

@@ -27,10 +27,10 @@ import numpy as np
 
 from bench.c_reference import CReference, find_compiler
 from bench.recording import encoder_rows
-from softarm.arm.batch import arm_batch
 from softarm.arm.camera import world_to_pixel
 from softarm.arm.reference import simulate_reference
 from softarm.config import load_config, override
+from softarm.sim.batch import arm_batch
 from softarm.sim.budget import MAX_BLOCK_FRAMES
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser

@@ -19,8 +19,8 @@ RESULTS = Path(__file__).parent / "results"
 
 def measure(arch: str, arms_list: list[int], frames: int) -> dict[int, float]:
     """Spring updates per second for each batch size on one backend (runs inside the child process)."""
-    from softarm.arm.batch import arm_batch
     from softarm.config import load_config
+    from softarm.sim.batch import arm_batch
     from softarm.sim.physics import Simulator
     from softarm.sim.runtime import init_taichi
 

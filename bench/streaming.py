@@ -20,9 +20,9 @@ from softarm.imagine.stream import StreamingImaginer
 from softarm.model.autoencoder import Autoencoder
 from softarm.model.imaginer import Imaginer
 from softarm.model.inputs import Inputs, channels
-from softarm.model.registry import LATENT_MODELS, latent_model_class
 from softarm.model.scaler import Scaler
 from softarm.model.trained import TrainedModel
+from softarm.registry import LATENT_MODELS, latent_model_class
 
 PERIOD_MS = 10.0  # the default frame step: 100 samples a second
 GOAL_MS = 1.0

@@ -23,7 +23,7 @@ from softarm.config import load_config
 from softarm.learn.precision import cpu_has_bf16
 from softarm.learn.train_state import adam
 from softarm.model.autoencoder import Autoencoder
-from softarm.model.registry import latent_model_class
+from softarm.registry import latent_model_class
 
 CONFIG = load_config()
 T = CONFIG.train

@@ -10,7 +10,7 @@ from softarm_cli.progress import StagedProgress
 from softarm_cli.tables import metrics_table
 
 from softarm.config import load_config
-from softarm.model.registry import INPUT_CHANNELS, LATENT_MODELS
+from softarm.registry import INPUT_CHANNELS, LATENT_MODELS
 
 TRAINING_STAGES = {"reading": ("reading", "recordings"), "training": ("training", "steps"),
                    "fitting": ("fitting", "fits")}  # the surprise, the baselines, the confidence, the metrics

@@ -7,7 +7,7 @@ from typing import Any
 from softarm.config.keys import KEYS, MAX_SEED, require
 from softarm.config.schema import Config
 from softarm.errors import ConfigError
-from softarm.model.registry import TRUST
+from softarm.registry import TRUST
 
 
 def _require(ok: bool, key: str, value: Any, allowed: str) -> None:

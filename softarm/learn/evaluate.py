@@ -17,8 +17,8 @@ from softarm.model.imaginer import Imaginer
 from softarm.model.latent import LatentModel
 from softarm.model.metrics import image_scores, summarise
 from softarm.model.prediction import Prediction
-from softarm.model.registry import trust_class
 from softarm.model.trust import ErrorHeadTrust
+from softarm.registry import trust_class
 
 MAX_SCORED = 10_000  # held-out frames scored per segment: a corpus's metrics cost what one long recording's do
 

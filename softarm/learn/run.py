@@ -19,7 +19,7 @@ from softarm.errors import CheckpointError, ConfigError, OutputError, RecordingE
 from softarm.files import check_outputs, claimed, made_folders, part_path, write_json
 from softarm.interrupt import Stopped, stop_on_signal
 from softarm.learn.observer import Progress, StageProgress, open_observer
-from softarm.model.registry import check_inputs, check_latent_model
+from softarm.registry import check_inputs, check_latent_model
 
 DEFAULT_FOLDER = Path("recordings")
 PathLike = Union[str, Path]

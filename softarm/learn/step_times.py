@@ -16,7 +16,7 @@ import torch.nn.functional as F
 from softarm.learn.precision import forward_precision, has_bf16
 from softarm.learn.train_state import TrainState
 from softarm.model.device import device_of, synchronize, tensor_on
-from softarm.model.registry import latent_model_class
+from softarm.registry import latent_model_class
 
 ROUNDS = 5  # timed steps of each precision, taken in turns
 BF16_MARGIN = 1.05  # how much faster bf16 must run each network's step to be chosen

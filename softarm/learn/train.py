@@ -25,7 +25,7 @@ from softarm.learn.train_state import TrainState
 from softarm.model.autoencoder import in_batches, reconstruct
 from softarm.model.device import tensor_on
 from softarm.model.latent import LatentModel, Step
-from softarm.model.registry import latent_model_class
+from softarm.registry import latent_model_class
 
 CLIP_FRAMES = 100  # the held-out clip shown each epoch: the first second of the imagination segment
 # A latent model is validated after every VALIDATE_EVERY-th epoch and the last (NaN in the losses between): the

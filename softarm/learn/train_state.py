@@ -26,9 +26,9 @@ from softarm.model.checkpoint import checkpoint_config, load_checkpoint, save_ch
 from softarm.model.device import torch_device
 from softarm.model.inputs import Inputs, channels, chosen_inputs
 from softarm.model.latent import LatentModel, TrainingSeries
-from softarm.model.registry import latent_model_class
 from softarm.model.scaler import Scaler
 from softarm.model.surprise import SurpriseModel
+from softarm.registry import latent_model_class
 
 REFITTED = ("confidence", "false_alarms_per_minute", "device")  # what --resume always takes from the asked settings:
 # the first two are fitted after training, so a finished model sets them anew, and a run continues on the device it

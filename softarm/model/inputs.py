@@ -12,8 +12,8 @@ import numpy as np
 
 from softarm.config import Config
 from softarm.errors import RecordingError
-from softarm.model.registry import input_channel_class
 from softarm.model.scaler import Scaler
+from softarm.registry import input_channel_class
 from softarm.sense.reading import kind_count, needs_nodes, sensed_kind, sensed_stretch, sensor_count
 from softarm.sensors import KINDS
 

@@ -14,13 +14,13 @@ from typing import Optional, Sequence, Union
 import numpy as np
 import taichi as ti
 
-from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.body import Body
 from softarm.arm.drive import KIND_CODES, Drive
 from softarm.arm.muscles import Muscles
 from softarm.config import Config
 from softarm.disturbances import Disturbance
 from softarm.disturbances.slots import WorldFields, pack
+from softarm.sim.batch import ArmBatch, arm_batch
 from softarm.sim.capacity import check_physics, raise_on_blowup
 from softarm.sim.exchange import Exchange
 from softarm.sim.forces import accumulate_forces, first_far_node, substep

@@ -7,7 +7,6 @@ from typing import TYPE_CHECKING, Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from softarm.arm.batch import ArmBatch, arm_batch
 from softarm.arm.sensors import stretch
 from softarm.config import Config
 from softarm.errors import RecordingError, SimulationError
@@ -18,6 +17,7 @@ from softarm.record.process import RecorderProcess, WriterFailed
 from softarm.record.slots import BlockShape
 from softarm.record.writer import ArmMetadata
 from softarm.sim import check_arch
+from softarm.sim.batch import ArmBatch, arm_batch
 from softarm.sim.budget import block_frames_for, check_resources
 from softarm.sim.capacity import gpu_free_memory_of_driver
 

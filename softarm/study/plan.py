@@ -23,7 +23,7 @@ from typing import Any, Union
 
 from softarm.config import load_config
 from softarm.errors import ConfigError
-from softarm.model.registry import check_inputs, check_latent_model
+from softarm.registry import check_inputs, check_latent_model
 
 Value = Union[int, float, str]
 STUDY_KEYS = ("name", "variable", "description", "quick", "trials")

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, Callable, Optional, Union
 
 import numpy as np
 
-from softarm.model.registry import trust_classes
+from softarm.registry import trust_classes
 from softarm.suite.manifest import SuiteCase, read_suite
 from softarm.suite.surprise import CaseSurprise, case_surprise, surprise_report
 from softarm.suite.trust import FLAGGED, LEAST_TRUSTED, trust_scores, with_reference

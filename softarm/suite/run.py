@@ -7,6 +7,7 @@ from softarm.errors import CheckpointError
 from softarm.files import check_outputs, claimed, input_file, made_folders, write_json
 from softarm.suite.evaluate import Progress, evaluate_suite
 from softarm.suite.manifest import MANIFEST, read_suite
+from softarm.suite.trust import FRACTIONS
 
 PathLike = Union[str, Path]
 
@@ -33,5 +34,5 @@ def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike
         if trust_png is not None:
             from softarm.view.trust_plot import save_sparsification_png
 
-            save_sparsification_png(evaluation["confidence"], trust_png, evaluation["checkpoint"])
+            save_sparsification_png(evaluation["confidence"], trust_png, FRACTIONS, evaluation["checkpoint"])
     return evaluation

@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from softarm.arm.batch import arm_batch
 from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
+from softarm.sim.batch import arm_batch
 
 
 def reference_run(seed: int, n_frames: int):

@@ -94,10 +94,10 @@ def test_a_background_frame_is_subtracted(recordings, robot_bag, tmp_path):
 def test_a_scale_given_or_read_from_the_arms_length_puts_tip_errors_in_mm(recordings, robot_bag, imported, tmp_path):
     """--scale (the camera's own, as robot-log prints it) gives the native frames' scale exactly; --arm-length (the
     arm's length as it hangs) reads it from the masks to within the pixel their extent is rounded to."""
-    from softarm.arm.batch import arm_batch
     from softarm.config import load_config
     from softarm.real.convert import import_log
     from softarm.real.settings import ImportSettings
+    from softarm.sim.batch import arm_batch
 
     native = read_recording(recordings / "s0.mcap", nodes=False)
     hanging = arm_batch(load_config(), seeds=[0]).positions[0][:, 1]

@@ -52,7 +52,7 @@ def test_every_kind_records_re_simulates_from_its_metadata_and_passes_the_checke
 
 
 def test_the_same_seed_draws_the_same_disturbances_and_another_seed_others(tmp_path):
-    from softarm.arm.batch import arm_batch
+    from softarm.sim.batch import arm_batch
 
     config = load_config(overrides={"world.random": [DRAWN], "run.arms": 2})
     first, again = arm_batch(config), arm_batch(config)

@@ -4,10 +4,10 @@ is allocated (Taichi 1.7 would end the process in its C++ runtime instead)."""
 import numpy as np
 import pytest
 
-from softarm.arm.batch import arm_batch
 from softarm.config import load_config
 from softarm.errors import SimulationError
 from softarm.sim import capacity, physics, raster
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from softarm.arm.batch import arm_batch
 from softarm.config import load_config, override
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 
 pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds

@@ -8,9 +8,9 @@ the results must equal the CPU path's bit for bit.
 import numpy as np
 import pytest
 
-from softarm.arm.batch import arm_batch
 from softarm.config import load_config
 from softarm.sim import runtime
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
 

@@ -6,11 +6,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from softarm.arm.batch import arm_batch
 from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
 from softarm.disturbances import Drag, Obstacle, Payload, Push, Stiffness
 from softarm.errors import ConfigError
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 from tests.helpers.oscillator import MASS, REST_LENGTH, STIFFNESS, STILL, analytic_rates, measured_rates, one_spring
 

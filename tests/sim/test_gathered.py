@@ -5,7 +5,6 @@ every kind of disturbance, muscles under command, a blow-up, and a state placed 
 import numpy as np
 import pytest
 
-from softarm.arm.batch import arm_batch
 from softarm.arm.body import build_body
 from softarm.arm.drive import drive_for_seed
 from softarm.arm.muscles import build_muscles
@@ -13,6 +12,7 @@ from softarm.arm.reference import simulate_reference
 from softarm.arm.statics import hanging_equilibrium
 from softarm.config import load_config
 from softarm.errors import SimulationError
+from softarm.sim.batch import arm_batch
 from softarm.sim.gathered import incident_springs
 from softarm.sim.physics import Simulator
 from tests.sim.test_disturbances import ONE_OF_EACH

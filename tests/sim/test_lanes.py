@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from softarm.arm.batch import arm_batch
 from softarm.config import load_config
 from softarm.sim import layout
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 
 pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds

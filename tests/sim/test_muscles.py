@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from softarm.arm.batch import arm_batch
 from softarm.arm.muscles import build_muscles
 from softarm.arm.reference import simulate_reference
 from softarm.config import load_config
 from softarm.errors import ConfigError
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 
 STILL_TOP = {"excitation.amplitude": 0.0}

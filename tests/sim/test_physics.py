@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 
-from softarm.arm.batch import arm_batch
 from softarm.arm.body import build_body
 from softarm.arm.drive import drive_for_seed
 from softarm.arm.reference import simulate_reference
 from softarm.arm.statics import hanging_equilibrium
 from softarm.config import load_config
 from softarm.errors import SimulationError
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 from tests.helpers.oscillator import REST_LENGTH, STILL, analytic_rates, measured_rates, one_spring, pulled
 from tests.helpers.runs import assert_batch_equals_single_runs, reference_run

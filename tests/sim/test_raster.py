@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from softarm.arm.batch import arm_batch
 from softarm.arm.camera import world_to_pixel
 from softarm.config import CameraConfig, load_config
+from softarm.sim.batch import arm_batch
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
 

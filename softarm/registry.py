@@ -1,7 +1,8 @@
-"""Every latent model and input channel by the name the config gives it, one line each.
+"""Every latent model, input channel and confidence by the name the config gives it, one line each.
 
-Classes are imported only when used (`latent_model_class`), so the command line and the config name them
-without loading torch. A new model is one class and one line here.
+Classes are imported only when used (`latent_model_class`), so the command line and the config check their names
+without loading torch; it lies beneath every package, the config's checks included, and imports none of them. A
+new model is one class and one line here.
 """
 
 import importlib
