@@ -112,7 +112,7 @@ def pipeline(folder: Path, quick: bool, suite: bool) -> dict:
     `suite`, its scores on the held-out suite."""
     from softarm.config import load_config
     from softarm.corpus.build import write_corpus
-    from softarm.learn.run import train
+    from softarm.learn.training import train
     from softarm.sim.runtime import init_taichi
 
     init_taichi("gpu")
@@ -129,7 +129,7 @@ def pipeline(folder: Path, quick: bool, suite: bool) -> dict:
              "frames": sum(r["frames"] for r in trained.metrics["recordings"]), "iou": validation.get("iou", float("nan"))}
     if suite:
         from softarm.suite.build import write_suite
-        from softarm.suite.run import evaluate
+        from softarm.suite.evaluate import evaluate
 
         start = time.perf_counter()
         write_suite(folder / "suite", arch="gpu")

@@ -34,8 +34,8 @@ from softarm.sim.batch import arm_batch
 from softarm.sim.budget import MAX_BLOCK_FRAMES
 from softarm.sim.physics import Simulator
 from softarm.sim.raster import Rasteriser
-from softarm.sim.run import simulate
 from softarm.sim.runtime import init_taichi
+from softarm.sim.simulate import simulate
 
 
 def best_of(repeats: int, action: Callable[[], object]) -> float:

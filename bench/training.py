@@ -40,7 +40,7 @@ def optimiser_of(parameters: Iterable[torch.nn.Parameter], lr: float, fused: boo
 
 def autoencoder_step(memory_format: torch.memory_format, autocast: bool, compiled: bool,
                      fused: bool = True) -> Callable[[], None]:
-    """One step of the autoencoder's training loop (Adam, BCE on logits), as `softarm.learn.train` takes it."""
+    """One step of the autoencoder's training loop (Adam, BCE on logits), as `softarm.learn.loop` takes it."""
     torch.manual_seed(0)
     net = Autoencoder(CONFIG.camera.height, CONFIG.camera.width, T.latent).to(memory_format=memory_format).train()
     optimiser = optimiser_of(net.parameters(), T.lr_ae, fused)

@@ -31,7 +31,7 @@ def replay(
     \b
     Example: softarm replay recordings/seed0.pt recordings/seed0.mcap --blind 95:100 --rrd recordings/replay.rrd
     """
-    from softarm.imagine.run import replay as run_replay
+    from softarm.imagine.replay import replay as run_replay
 
     noise = run_or_exit(lambda: parse_imperfections(sensor_noise)) if sensor_noise else None
     result = run_or_exit(lambda: run_replay(checkpoint, recording, blind or [], rrd=rrd, mcap=mcap, png=png,
@@ -61,7 +61,7 @@ def evaluate(
     \b
     Example: softarm evaluate recordings/seed0.pt recordings/suite --json recordings/suite_scores.json --png suite.png
     """
-    from softarm.suite.run import evaluate as run_evaluation
+    from softarm.suite.evaluate import evaluate as run_evaluation
 
     noise = run_or_exit(lambda: parse_imperfections(sensor_noise)) if sensor_noise else None
     with LazyProgress(err, "evaluating", 1, "recordings", quiet=quiet, log=out) as bar:

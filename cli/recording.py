@@ -31,7 +31,7 @@ def sim(
     \b
     Example: softarm sim --duration 10 --arms 4 --out recordings/short.mcap
     """
-    from softarm.sim.run import simulate  # imports Taichi: only for the commands that need it
+    from softarm.sim.simulate import simulate  # imports Taichi: only for the commands that need it
 
     overrides = {"run.duration": duration, "excitation.amplitude": amplitude, "integration.substeps": substeps,
                  "run.arms": arms, "run.seed": seed}

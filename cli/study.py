@@ -32,7 +32,7 @@ def study(
     Example: softarm study sensors --out recordings/studies/sensors --quick
     """
     from softarm.study.report import results_table
-    from softarm.study.run import run_study
+    from softarm.study.runner import run_study
 
     with StagedProgress(err, STAGES, quiet=quiet, log=out) as progress:
         result = run_or_exit(lambda: run_study(name, out_dir, QUICK if quick else FULL, address=address, trials=trials,

@@ -41,7 +41,7 @@ def train(
     \b
     Example: softarm train recordings/seed0.mcap --rrd recordings/train.rrd
     """
-    from softarm.learn.run import train as run_training
+    from softarm.learn.training import train as run_training
 
     overrides = {"train.epochs_ae": epochs_ae, "train.epochs_lstm": epochs_lstm, "train.model": model, "train.history": history,
                  "train.inputs": [name.strip() for name in inputs.split(",")] if inputs else None,
@@ -83,7 +83,7 @@ def adapt(
     \b
     Example: softarm adapt recordings/general.pt recordings/payload.mcap --seconds 5 --out recordings/adapted.pt
     """
-    from softarm.learn.adapt_run import adapt as run_adapt
+    from softarm.learn.adapt import adapt as run_adapt
 
     result = run_or_exit(lambda: run_adapt(checkpoint, recording, seconds, out_path, start=start, force=force,
                                            device=device))

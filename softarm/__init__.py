@@ -36,16 +36,16 @@ _API = {
     "load_config": "softarm.config",
     "Config": "softarm.config",
     "SoftarmError": "softarm.errors",
-    "simulate": "softarm.sim.run",
+    "simulate": "softarm.sim.simulate",
     "read_recording": "softarm.record.reader",
-    "train": "softarm.learn.run",
-    "adapt": "softarm.learn.adapt_run",
-    "replay": "softarm.imagine.run",
+    "train": "softarm.learn.training",
+    "adapt": "softarm.learn.adapt",
+    "replay": "softarm.imagine.replay",
     "write_corpus": "softarm.corpus.build",
     "write_suite": "softarm.suite.build",
-    "evaluate": "softarm.suite.run",
+    "evaluate": "softarm.suite.evaluate",
     "load_study": "softarm.study.builtin",
-    "run_study": "softarm.study.run",
+    "run_study": "softarm.study.runner",
     "demo": "softarm.demo",
     "StreamingImaginer": "softarm.imagine.stream",
     "import_log": "softarm.real.convert",
@@ -62,20 +62,20 @@ if TYPE_CHECKING:  # what editors and type checkers read: the real signatures (r
     from softarm.corpus.build import write_corpus as write_corpus
     from softarm.demo import demo as demo
     from softarm.errors import SoftarmError as SoftarmError
-    from softarm.imagine.run import replay as replay
+    from softarm.imagine.replay import replay as replay
     from softarm.imagine.stream import StreamingImaginer as StreamingImaginer
-    from softarm.learn.adapt_run import adapt as adapt
-    from softarm.learn.run import train as train
+    from softarm.learn.adapt import adapt as adapt
+    from softarm.learn.training import train as train
     from softarm.real.convert import import_log as import_log
     from softarm.real.preview import preview_log as preview_log
     from softarm.real.robot_log import make_robot_log as make_robot_log
     from softarm.real.settings import ImportSettings as ImportSettings
     from softarm.record.reader import read_recording as read_recording
-    from softarm.sim.run import simulate as simulate
+    from softarm.sim.simulate import simulate as simulate
     from softarm.study.builtin import load_study as load_study
-    from softarm.study.run import run_study as run_study
+    from softarm.study.runner import run_study as run_study
     from softarm.suite.build import write_suite as write_suite
-    from softarm.suite.run import evaluate as evaluate
+    from softarm.suite.evaluate import evaluate as evaluate
 
 
 def __getattr__(name: str) -> Any:

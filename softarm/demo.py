@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING, Callable, Optional, Union
 from softarm.config import load_config
 
 if TYPE_CHECKING:
-    from softarm.imagine.run import ReplayOutcome
-    from softarm.learn.run import TrainResult
-    from softarm.sim.run import SimResult
+    from softarm.imagine.replay import ReplayOutcome
+    from softarm.learn.training import TrainResult
+    from softarm.sim.simulate import SimResult
 
 BLACKOUT = "95:100"  # s: the camera is off for the last 5 s
 STAGES = ("simulating", "training", "replaying")
@@ -41,9 +41,9 @@ class DemoResult:
 def demo(folder: Union[str, Path] = "recordings/demo", force: bool = False,
          progress: Optional[Progress] = None) -> DemoResult:
     """Run sim, train and replay on defaults into `folder`; every output is checked before any work."""
-    from softarm.imagine.run import replay
-    from softarm.learn.run import check_train_outputs, train
-    from softarm.sim.run import simulate
+    from softarm.imagine.replay import replay
+    from softarm.learn.training import check_train_outputs, train
+    from softarm.sim.simulate import simulate
 
     folder = Path(folder)
     tell = progress or (lambda *_: None)

@@ -14,7 +14,7 @@ def taichi_on_cpu():
 @pytest.fixture(scope="session")
 def recordings(tmp_path_factory):
     """Two 4 s recordings (seeds 0 and 1) and a 1 s one with 3 sensors."""
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     folder = tmp_path_factory.mktemp("rec")
     for seed in (0, 1):
@@ -27,7 +27,7 @@ def recordings(tmp_path_factory):
 @pytest.fixture(scope="session")
 def tiny_checkpoint(recordings, tmp_path_factory):
     """A few seconds of training on the 4 s seed-0 recording, its live view saved beside it as tiny.rrd."""
-    from softarm.learn.run import train
+    from softarm.learn.training import train
 
     folder = tmp_path_factory.mktemp("ckpt")
     return train([recordings / "s0.mcap"], load_config(overrides=TINY), folder / "tiny.pt", rrd=folder / "tiny.rrd")
@@ -36,7 +36,7 @@ def tiny_checkpoint(recordings, tmp_path_factory):
 @pytest.fixture(scope="session")
 def tiny_window_checkpoint(recordings, tmp_path_factory):
     """The same few seconds of training for the paper's window model (the default is the stream model)."""
-    from softarm.learn.run import train
+    from softarm.learn.training import train
 
     folder = tmp_path_factory.mktemp("ckpt_window")
     return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "window"}),
@@ -46,7 +46,7 @@ def tiny_window_checkpoint(recordings, tmp_path_factory):
 @pytest.fixture(scope="session")
 def tiny_tcn_checkpoint(recordings, tmp_path_factory):
     """The same few seconds of training for the causal convolution network."""
-    from softarm.learn.run import train
+    from softarm.learn.training import train
 
     folder = tmp_path_factory.mktemp("ckpt_tcn")
     return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "tcn"}), folder / "tiny_tcn.pt")

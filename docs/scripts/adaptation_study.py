@@ -36,7 +36,7 @@ def damaged_springs(rows: tuple[int, int]) -> list[int]:
 def recordings(folder: Path, seeds: int) -> dict[str, list[tuple[Path, Path]]]:
     """(changed, unchanged twin) per change and seed, simulated once."""
     from softarm.config import load_config
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     made: dict[str, list[tuple[Path, Path]]] = {}
     for name, change in CHANGES.items():
@@ -55,7 +55,7 @@ def recordings(folder: Path, seeds: int) -> dict[str, list[tuple[Path, Path]]]:
 
 
 def scored_iou(checkpoint: Path, recording: Path) -> float:
-    from softarm.imagine.replay import compute_replay
+    from softarm.imagine.replay_data import compute_replay
 
     replay = compute_replay(checkpoint, recording, nodes=False)
     chosen = (replay.times >= SCORED_FROM) & np.isfinite(replay.iou)
@@ -65,7 +65,7 @@ def scored_iou(checkpoint: Path, recording: Path) -> float:
 def main() -> None:
     import torch
 
-    from softarm.learn.adapt_run import adapt
+    from softarm.learn.adapt import adapt
 
     parser = argparse.ArgumentParser()
     parser.add_argument("checkpoint", type=Path)

@@ -11,7 +11,7 @@ import numpy as np
 
 from softarm.config import load_config
 from softarm.record.reader import read_recording
-from softarm.sim.run import simulate
+from softarm.sim.simulate import simulate
 from softarm.view.filmstrip import filmstrip, save_png
 
 SWING = {"excitation.kind": "sum_of_sines", "excitation.sum_of_sines.amplitudes": [0.0008],

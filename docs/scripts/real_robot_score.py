@@ -14,7 +14,7 @@ import sys
 
 import numpy as np
 
-from softarm.imagine.replay import compute_replay
+from softarm.imagine.replay_data import compute_replay
 from softarm.model.metrics import frame_scores, iou_per_frame
 from softarm.record.reader import read_recording
 

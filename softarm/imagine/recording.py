@@ -19,7 +19,7 @@ from softarm.record.format import json_schema
 from softarm.record.mcap_file import McapFile
 
 if TYPE_CHECKING:
-    from softarm.imagine.replay import Replay
+    from softarm.imagine.replay_data import Replay
 
 IMAGE = "/imagination/image"
 IOU = "/imagination/iou"

@@ -1,114 +1,110 @@
-"""Adaptation: learning the new body after a lasting change, from a few seconds of camera.
+"""`softarm adapt` as one call: a checkpoint, a recording after a lasting change, S seconds of its camera; the
+adapted checkpoint, and the imagination of the rest of the recording (camera off) before and after.
 
-What changes when an arm carries a load or a segment is damaged is how its feeling maps to its shape, and, for a
-damaged segment, how the body moves: the same stretch and command now mean another pose, reached another way. So
-each latent model (each member, for an ensemble) is fine-tuned whole on the window's frames, recurrent layer and
-latent head together (the error head and the node head stay): `STEPS` Adam steps on the mean squared error of the
-normalised latent code, reading the recording from its first sample as replay does, with an L2 pull toward the
-trained weights so that a few seconds of one motion do not erase the body it knew. A refit of the latent head
-alone (a ridge toward the trained head) recovered 71 % of a load's loss but 13 % of a damage's with 5 s of
-camera: the recurrent layer has to learn a softened segment. The surprise's forward model and memory check are
-then refitted in closed form, ridge regressions toward their weights on the same samples, so the alarm quietens
-once the new body is learned. The autoencoder and the scalers stay as they were.
+The camera is on from `start` (s): by default the start of the recording's first lasting disturbance where it
+lists one (a simulated load or damage), else the first alarm of the checkpoint's surprise: the arm feels that
+its body changed and looks. Torch loads when `adapt()` first runs.
 """
 
-import copy
-from dataclasses import dataclass, replace
-from typing import Callable
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
-import torch
 
-from softarm.interrupt import Stopped
-from softarm.model.autoencoder import encode_frames
-from softarm.model.device import tensor_on
-from softarm.model.imaginer import Imaginer
-from softarm.model.latent import LatentModel
-from softarm.model.surprise import LAGS, SurpriseModel
+from softarm.errors import CheckpointError, ConfigError, RecordingError
+from softarm.files import check_outputs, claimed, input_file, made_folders
+from softarm.interrupt import Escalated, Interrupted, Stopped, stop_on_signal
 
-STEPS = 150           # Adam steps of the fine-tuning
-LEARNING_RATE = 1e-3
-PULL = 1e-3           # the L2 pull: PULL * the sum of squared changes of the tuned weights, beside the latent MSE
-SHRINK = 0.03         # the surprise's refits' pull, relative to the mean squared feature times the samples
-FROZEN = ("error", "nodes")  # parameter names' starts that fine-tuning leaves alone
+PathLike = Union[str, Path]
 
 
 @dataclass(frozen=True)
-class Window:
-    """The seconds the camera is on: frames [start, end) of a recording, the model's normalised inputs (T, F)
-    and the frames (T, H, W)."""
-    start: int
-    end: int
-    inputs: np.ndarray
-    frames: np.ndarray
+class AdaptResult:
+    checkpoint: Path
+    metrics: dict[str, Any]   # the window, the time it took, and the rest's IoU before and after
 
 
-def adapt_models(imaginer: Imaginer, window: Window, stop: Callable[[], bool] = lambda: False) -> Imaginer:
-    """A new imaginer whose latent models (and surprise model) fit the window's frames; the given one is unchanged.
-    `stop()` is asked between fine-tuning steps: True raises Stopped."""
-    lead = imaginer.latent.lead
-    frames = np.arange(max(window.start, imaginer.latent.first_frame), window.end)
-    codes = imaginer.latent_scaler.forward(encode_frames(imaginer.autoencoder, window.frames[frames]))
-    read = window.inputs[:window.end].astype(np.float32)
-    device = imaginer.latent.device  # the fine-tuning runs where the networks are
-    models = [fine_tuned(model, tensor_on(read, device), tensor_on(frames - lead, device),
-                         tensor_on(codes.astype(np.float32), device), stop) for model in (imaginer.latent, *imaginer.members)]
-    surprise = imaginer.surprise
-    if surprise is not None:
-        surprise = adapted_surprise(surprise, models[0].states(read), read.astype(np.float64), window.start, SHRINK)
-    return replace(imaginer, latent=models[0], members=tuple(models[1:]), surprise=surprise)
+def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLike, start: Optional[float] = None,
+          force: bool = False, device: str = "auto") -> AdaptResult:
+    """Fine-tune the latent models to `seconds` of `recording`'s camera from `start` on `device` and save the
+    result in `out`."""
+    if not (np.isfinite(seconds) and seconds > 0):
+        raise ConfigError(f"--seconds {seconds:g}: give a finite, positive number of seconds of camera")
+    from softarm.record.reader import read_model
+
+    check_outputs([Path(out)], force, inputs=[checkpoint, recording])
+    input_file(checkpoint, "checkpoint", CheckpointError)  # missing inputs are refused before torch loads
+    read_model(recording)
+    from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
+
+    try:
+        with stop_on_signal() as caught:
+            return _adapt(TrainedModel(checkpoint, device), recording, seconds, Path(out), start, lambda: bool(caught))
+    except Stopped:  # the checkpoint is written whole at the end, so nothing was
+        raise Interrupted(f"nothing was written to {out}") from None
+    except Escalated:
+        raise Escalated(f"stopped at once by a second stop request; nothing was written to {out}") from None
 
 
-def fine_tuned(model: LatentModel, series: torch.Tensor, samples: torch.Tensor, codes: torch.Tensor,
-               stop: Callable[[], bool] = lambda: False) -> LatentModel:
-    """A copy of `model` after STEPS Adam steps on |latents_at(series, samples) - codes|^2 (mean) + PULL * |w - w0|^2
-    over its parameters but the FROZEN ones."""
-    tuned = copy.deepcopy(model)
-    weights = {name: p for name, p in tuned.named_parameters() if not name.startswith(FROZEN)}
-    start = {name: p.detach().clone() for name, p in weights.items()}
-    optimiser = torch.optim.Adam(weights.values(), lr=LEARNING_RATE)
-    tuned.train()
-    for _ in range(STEPS):
-        if stop():
-            raise Stopped()
-        loss = ((tuned.latents_at(series, samples) - codes) ** 2).mean()
-        loss = loss + PULL * sum(((p - start[name]) ** 2).sum() for name, p in weights.items())
-        optimiser.zero_grad()
-        loss.backward()
-        optimiser.step()
-    return tuned.eval()
+def _adapt(model: Any, recording: PathLike, seconds: float, out: Path, start: Optional[float],
+           stop: Callable[[], bool]) -> AdaptResult:
+    """Adapt and save, once the inputs and output are checked; `stop()` ends it (Stopped) before the save."""
+    from softarm.learn.finetune import Window, adapt_models
+    from softarm.model.checkpoint import save_checkpoint
+    from softarm.model.metrics import iou_per_frame
+
+    reading = model.read(recording)
+    rec, imaginer = reading.recording, model.imaginer
+    before = imaginer.predict(reading.inputs)
+    begin = camera_start(rec.model, rec.times, before, imaginer, start)
+    end = begin + int(round(seconds / rec.frame_dt))
+    if end >= len(rec.times) - 1:
+        raise RecordingError(f"{rec.path}: {seconds:g} s of camera from {rec.times[begin]:.2f} s reach past its end "
+                             f"({rec.times[-1]:.2f} s); give fewer --seconds or an earlier --from")
+    clock = time.perf_counter()
+    adapted = adapt_models(imaginer, Window(begin, end, imaginer.normalised(reading.inputs).astype(np.float64), rec.frames),
+                           stop)
+    took = time.perf_counter() - clock
+    after = adapted.predict(reading.inputs)
+    rest = (before.targets >= end) & rec.seen[before.targets]
+    truth = rec.frames[before.targets[rest]]
+    scores = {name: float(iou_per_frame(im.decode(p.latents[rest]), truth).mean())
+              for name, im, p in (("before", imaginer, before), ("after", adapted, after))}
+    metrics = {"recording": str(rec.path), "from_s": float(rec.times[begin]), "seconds": float(seconds),
+               "camera_frames": int(end - begin), "adapt_seconds": took, "rest_frames": int(rest.sum()),
+               "rest_iou": scores}
+    state = dict(model.state)
+    state["latent_model"] = adapted.latent.state_dict()
+    state["members"] = [m.state_dict() for m in adapted.members]
+    if adapted.surprise is not None:
+        state["surprise"] = adapted.surprise.to_state()
+    state["adaptation"] = metrics
+    if stop():
+        raise Stopped()
+    outputs = [Path(out)]
+    with made_folders(outputs), claimed(outputs):
+        save_checkpoint(out, {k: v for k, v in state.items() if k != "format"})
+    return AdaptResult(Path(out), metrics)
 
 
-def ridge_toward(x: np.ndarray, y: np.ndarray, weights: np.ndarray, bias: np.ndarray,
-                 shrink: float) -> tuple[np.ndarray, np.ndarray]:
-    """argmin |y - x W - b|^2 + shrink * mean(x^2) * N * (|W - W0|^2 + |b - b0|^2): a ridge on the change."""
-    xa = np.concatenate([x, np.ones((len(x), 1))], axis=1)
-    start = np.concatenate([weights, bias[None]])
-    residual = y - xa @ start
-    penalty = shrink * float(np.mean(xa ** 2)) * len(x) * np.eye(xa.shape[1])
-    change = np.linalg.solve(xa.T @ xa + penalty, xa.T @ residual)
-    new = start + change
-    return new[:-1], new[-1]
+def camera_start(model: dict[str, Any], times: np.ndarray, prediction: Any, imaginer: Any, start: Optional[float]) -> int:
+    """The frame the camera turns on at: `start`, else the first lasting disturbance, else the first alarm."""
+    if start is None:
+        lasting = [float(d["start"]) for d in model.get("disturbances", []) if d.get("end") is None]
+        start = min(lasting) if lasting else first_alarm(prediction, imaginer, times)
+    if not (np.isfinite(start) and times[0] <= start < times[-1]):
+        raise ConfigError(f"--from {start:g}: give a time within the recording ({times[0]:.2f}-{times[-1]:.2f} s)")
+    return int(np.searchsorted(times, start - 1e-9))
 
 
-def adapted_surprise(model: SurpriseModel, states: np.ndarray, inputs: np.ndarray, start: int,
-                     shrink: float) -> SurpriseModel:
-    """The forward model and the memory check refitted toward their weights on the samples from `start` on
-    (the latent model's states (T, H) after each normalised input sample (T, F)); their spreads stay."""
-    x = model.features(inputs)[max(start - LAGS, 0):]
-    y = inputs[LAGS:][max(start - LAGS, 0):, list(model.felt)]
-    model = replace(model, weights=toward(x, y, model.weights, shrink))
-    if model.memory is None:
-        return model
-    keep = np.arange(max(start, 1), len(inputs))
-    keep = keep[np.isfinite(states[keep - 1]).all(axis=1)]
-    memory = model.memory
-    x = memory.features(states[keep - 1], inputs[keep])
-    return replace(model, memory=replace(memory, weights=toward(x, inputs[keep][:, list(model.felt)], memory.weights,
-                                                                 shrink)))
-
-
-def toward(x: np.ndarray, y: np.ndarray, weights: np.ndarray, shrink: float) -> np.ndarray:
-    """`ridge_toward` for a map whose features (and weights' rows) end with the constant."""
-    new, bias = ridge_toward(x[:, :-1], y, weights[:-1], weights[-1], shrink)
-    return np.concatenate([new, bias[None]])
+def first_alarm(prediction: Any, imaginer: Any, times: np.ndarray) -> float:
+    if prediction.surprise is None or imaginer.surprise is None:
+        raise ConfigError("the recording lists no lasting disturbance and the checkpoint has no surprise model: "
+                          "give --from SECONDS, when the camera turns on")
+    alarms = np.flatnonzero(np.nan_to_num(prediction.surprise) > imaginer.surprise.threshold)
+    if not len(alarms):
+        raise ConfigError("the recording lists no lasting disturbance and its surprise never raised the alarm: "
+                          "give --from SECONDS, when the camera turns on")
+    return float(times[prediction.targets[alarms[0]]])

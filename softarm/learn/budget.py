@@ -11,7 +11,7 @@ import math
 
 from softarm.config import override
 from softarm.learn import step_times
-from softarm.learn.train import schedules
+from softarm.learn.loop import schedules
 from softarm.learn.train_state import TrainState
 
 RESERVE = 0.1  # of the budget, kept for encoding the frames and scoring held-out data

@@ -21,8 +21,8 @@ from softarm.files import fingerprint
 from softarm.interrupt import Stopped
 from softarm.learn.packed_frames import PackedFrames
 from softarm.model.fits import check_fits, recording_shape
+from softarm.model.input_windows import input_windows, window_count
 from softarm.model.inputs import InputChannel, read_channels
-from softarm.model.windows import input_windows, window_count
 from softarm.record.reader import read_recording
 
 

@@ -70,7 +70,7 @@ def fit_baselines(state: TrainState) -> Baselines:
     return Baselines(mean_frame=data.frames("train").mean(), ridge=ridge, nodes=nodes)
 
 
-def evaluate(state: TrainState) -> dict[str, Any]:
+def training_metrics(state: TrainState) -> dict[str, Any]:
     """The metrics document written beside the checkpoint (README: Results), once its baselines are fitted."""
     t, data, baselines = state.config.train, state.data, state.baselines
     imaginer = imaginer_of(state)

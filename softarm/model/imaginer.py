@@ -16,13 +16,13 @@ from softarm.errors import CheckpointError, RecordingError
 from softarm.model.autoencoder import Autoencoder, decode_codes
 from softarm.model.baselines import ridge_predict
 from softarm.model.checkpoint import checkpoint_config, first_line
+from softarm.model.input_windows import input_windows
 from softarm.model.inputs import Inputs
 from softarm.model.latent import LatentModel
 from softarm.model.prediction import Prediction, joined_members
 from softarm.model.scaler import Scaler
 from softarm.model.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel
 from softarm.model.trust import ErrorHeadTrust, Trust
-from softarm.model.windows import input_windows
 from softarm.registry import latent_model_class, trust_class
 
 

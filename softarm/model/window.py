@@ -12,10 +12,10 @@ import torch
 from softarm.config import TrainConfig
 from softarm.model.autoencoder import in_batches
 from softarm.model.device import array_of, tensor_on
+from softarm.model.input_windows import input_windows, window_count
 from softarm.model.latent import OnlineReader, Order, Step, TrainingSeries
 from softarm.model.prediction import Prediction
 from softarm.model.recurrent import RecurrentModel
-from softarm.model.windows import input_windows, window_count
 
 
 class WindowLSTM(RecurrentModel):

@@ -25,7 +25,7 @@ def fresh_manifest(folder: Path, name: str, what: str, force: bool) -> Path:
 
 def planned_paths(folder: Path, runs: Sequence[tuple[str, Config]]) -> list[Path]:
     """Every file `simulate_groups` writes for these runs."""
-    from softarm.sim.run import output_paths
+    from softarm.sim.simulate import output_paths
 
     return [p for stem, config in runs for p in output_paths(config, Path(folder) / f"{stem}.mcap")]
 
@@ -35,7 +35,7 @@ def simulate_groups(folder: Path, runs: Sequence[tuple[str, Config]], arch: str,
                     progress: Optional[Callable[[int, int], None]] = None) -> bool:
     """Simulate each (file stem, config) into `folder`, calling `after(index, paths)` when one finishes;
     False when a signal stopped them. `progress(arm_frames_done, arm_frames_in_all)`."""
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     total, done = sum(c.n_frames * c.run.arms for _, c in runs), 0
     with stop_on_signal() as caught:

@@ -36,8 +36,8 @@ class TrialJob:
 def run_trial(job: TrialJob) -> TrialRecord:
     """The trial's record: `ok` with its suite scores, `failed` with the error's message (training or scoring
     went wrong), or `interrupted` when a stop request (Ctrl-C, a cancelled task) ended training."""
-    from softarm.learn.run import train
-    from softarm.suite.run import evaluate
+    from softarm.learn.training import train
+    from softarm.suite.evaluate import evaluate
 
     start = time.perf_counter()
     with cpu_share(TRIAL_CPUS), stop_on_signal() as caught:

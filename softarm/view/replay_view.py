@@ -33,7 +33,7 @@ def replay_blueprint(channels: list[str]) -> rrb.Blueprint:
 
 def log_replay(result: Any, rrd: Optional[Path] = None, spawn: bool = False,
                imagined_bytes: Optional[np.ndarray] = None) -> Optional[Path]:
-    """Write a replay (`softarm.imagine.replay.Replay`) as an .rrd and/or show it in a spawned viewer.
+    """Write a replay (`softarm.imagine.replay_data.Replay`) as an .rrd and/or show it in a spawned viewer.
 
     `imagined_bytes` (the imagined frames as grey bytes) may be passed when another writer made them already.
     """

@@ -10,7 +10,7 @@ import rerun as rr
 from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
-from softarm.imagine.replay import compute_replay
+from softarm.imagine.replay_data import compute_replay
 from softarm.model.surprise import LAGS
 from tests.helpers.cli import RERUN, assert_one_line_error, softarm
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from softarm import StreamingImaginer
-from softarm.imagine.replay import compute_replay
+from softarm.imagine.replay_data import compute_replay
 from softarm.model.surprise import LAGS
 from softarm.model.trained import TrainedModel
 from softarm.record.reader import read_recording

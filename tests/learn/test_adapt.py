@@ -7,7 +7,7 @@ import pytest
 import torch
 
 from softarm.config import load_config
-from softarm.learn.adapt import ridge_toward
+from softarm.learn.finetune import ridge_toward
 from softarm.model.autoencoder import encode_frames
 from softarm.model.trained import TrainedModel
 from tests.helpers.cli import assert_one_line_error, softarm
@@ -30,7 +30,7 @@ def test_the_ridge_toward_the_old_head_is_least_squares_with_a_prior():
 @pytest.fixture(scope="module")
 def loaded(tmp_path_factory):
     """6 s with 10 g on each tip node from 2 s on."""
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     path = tmp_path_factory.mktemp("adapt") / "loaded.mcap"
     simulate(load_config(overrides={"run.duration": 6.0, "run.seed": 3, "disturbances": [

@@ -5,7 +5,7 @@ replay of the training recording."""
 import numpy as np
 import pytest
 
-from softarm.imagine.replay import compute_replay
+from softarm.imagine.replay_data import compute_replay
 from softarm.model.baselines import ridge_predict
 from softarm.model.trained import TrainedModel
 from softarm.model.trust import CalibratedTrust

@@ -15,7 +15,7 @@ from softarm.learn.packed_frames import PackedFrames
 from softarm.learn.train_state import _saved_config
 from softarm.model.device import on_cpu, torch_device
 from softarm.model.trained import TrainedModel
-from softarm.study.run import trial_device
+from softarm.study.runner import trial_device
 from tests.helpers.cli import assert_one_line_error, softarm
 from tests.helpers.tiny import TINY
 
@@ -91,7 +91,7 @@ def test_a_studys_trials_ask_for_a_gpu_where_the_cluster_has_one():
 
 @cuda
 def test_a_model_trained_on_the_gpu_answers_on_the_cpu_as_on_the_gpu(recordings, tmp_path):
-    from softarm.learn.run import train
+    from softarm.learn.training import train
 
     trained = train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.device": "cuda"}),
                     tmp_path / "gpu.pt")

@@ -9,7 +9,7 @@ import pytest
 import torch
 
 from softarm.config import load_config
-from softarm.learn.run import train
+from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
 from softarm.model.imaginer import Imaginer
 from softarm.model.trained import TrainedModel

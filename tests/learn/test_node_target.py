@@ -9,7 +9,7 @@ from softarm.config import load_config
 from softarm.errors import ConfigError
 from softarm.learn.dataset import load_dataset
 from softarm.learn.node_targets import node_targets
-from softarm.learn.run import train
+from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
 from softarm.model.imaginer import Imaginer
 from softarm.model.inputs import channels

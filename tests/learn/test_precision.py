@@ -7,8 +7,8 @@ import torch
 from softarm.config import load_config
 from softarm.learn import step_times
 from softarm.learn.precision import forward_precision
-from softarm.learn.run import train
 from softarm.learn.train_state import start_state
+from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
 from tests.helpers.tiny import TINY
 

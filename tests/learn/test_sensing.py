@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from softarm.config import load_config
-from softarm.imagine.replay import compute_replay
+from softarm.imagine.replay_data import compute_replay
 from softarm.learn.dataset import load_dataset
-from softarm.learn.run import train
+from softarm.learn.training import train
 from softarm.model.inputs import channels
 from tests.helpers.tiny import TINY
 

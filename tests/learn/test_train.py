@@ -7,7 +7,7 @@ import pytest
 import torch
 
 from softarm.config import load_config
-from softarm.learn.run import train
+from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
 from softarm.model.imaginer import Imaginer
 from softarm.model.scaler import Scaler
@@ -107,7 +107,7 @@ def test_resume_warns_that_changed_settings_are_ignored(recordings, tiny_checkpo
 def test_a_minutes_budget_shrinks_both_schedules_by_one_factor_and_is_kept_in_the_checkpoint(
         recordings, tmp_path, monkeypatch):
     from softarm.learn import budget, step_times
-    from softarm.learn.train import schedules
+    from softarm.learn.loop import schedules
     from softarm.learn.train_state import start_state
 
     config = load_config(overrides={**TINY, "train.epochs_ae": 400, "train.epochs_lstm": 4000,  # hours of work

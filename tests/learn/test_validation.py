@@ -17,7 +17,7 @@ def test_validation_recordings_are_spread_over_a_corpus_and_none_of_a_few():
 
 @pytest.fixture(scope="module")
 def corpus(tmp_path_factory):
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     folder = tmp_path_factory.mktemp("corpus")
     simulate(load_config(overrides={"run.duration": 2.0, "run.arms": 5}), folder / "c.mcap")
@@ -36,7 +36,7 @@ def test_a_held_out_recording_trains_nothing_and_is_validated_whole(corpus):
 
 @pytest.mark.slow
 def test_training_on_a_corpus_reports_the_held_out_recordings(corpus, tmp_path):
-    from softarm.learn.run import train
+    from softarm.learn.training import train
 
     result = train(corpus, load_config(overrides={**TINY, "train.model": "stream", "train.epochs_lstm": 3}),
                    tmp_path / "c.pt")
@@ -55,7 +55,7 @@ def test_validating_a_latent_model_less_often_leaves_its_weights_as_they_were(re
     import torch
 
     from softarm.learn import train as training
-    from softarm.learn.run import train
+    from softarm.learn.training import train
     from softarm.model.checkpoint import load_checkpoint
 
     config = load_config(overrides={**TINY, "train.epochs_ae": 2, "train.epochs_lstm": 7})

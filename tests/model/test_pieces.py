@@ -35,7 +35,7 @@ def test_steps_per_epoch_counts_chunks_with_a_scored_sample():
 
 @pytest.mark.parametrize("model", ["stream", "gru", "window"])
 def test_one_epoch_of_a_latent_model_takes_the_steps_its_schedule_counts(recordings, tmp_path, model):
-    from softarm.learn.train import epoch_order, schedules
+    from softarm.learn.loop import epoch_order, schedules
     from softarm.learn.train_state import start_state
 
     config = load_config(overrides={"train.model": model, "train.streams": 5, "train.sequence": 40,

@@ -6,9 +6,9 @@ import pytest
 
 from softarm.config import load_config
 from softarm.errors import ConfigError, RecordingError
-from softarm.imagine.replay import compute_replay
+from softarm.imagine.replay_data import compute_replay
 from softarm.imagine.stream import StreamingImaginer
-from softarm.learn.run import train
+from softarm.learn.training import train
 from softarm.real.convert import import_log
 from softarm.real.robot_log import RobotLogSettings, make_robot_log
 from softarm.real.settings import ImportSettings

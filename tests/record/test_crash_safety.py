@@ -16,7 +16,7 @@ from softarm.files import part_path
 from softarm.record.mcap_writer import McapWriter
 from softarm.record.process import WriterFailed
 from softarm.record.reader import TruncatedRecordingWarning, count_frames, read_recording
-from softarm.sim.run import simulate
+from softarm.sim.simulate import simulate
 from tests.helpers.cli import SOFTARM, assert_one_line_error, files_under, softarm
 
 

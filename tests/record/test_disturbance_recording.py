@@ -9,7 +9,7 @@ import pytest
 
 from softarm.config import load_config
 from softarm.record.reader import read_recording
-from softarm.sim.run import simulate
+from softarm.sim.simulate import simulate
 from tests.helpers.resimulate import resimulate
 from tests.record.test_excitation_kinds import CHECKER
 from tests.sim.test_disturbances import ONE_OF_EACH

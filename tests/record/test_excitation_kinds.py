@@ -12,7 +12,7 @@ from mcap.writer import CompressionType, Writer
 
 from softarm.config import load_config
 from softarm.record.reader import read_recording
-from softarm.sim.run import simulate
+from softarm.sim.simulate import simulate
 
 pytestmark = pytest.mark.slow  # each test runs the CLI, trains or compiles kernels: seconds
 

@@ -10,16 +10,16 @@ import pytest
 from tests.helpers.suites import mini_suite
 
 CALLS = {  # the call, and what its refusal names
-    "replay, missing recording": ("from softarm.imagine.run import replay; replay(CKPT, 'missing.mcap')",
+    "replay, missing recording": ("from softarm.imagine.replay import replay; replay(CKPT, 'missing.mcap')",
                                   "recording missing.mcap not found"),
-    "replay, folder as checkpoint": ("from softarm.imagine.run import replay; replay('.', REC)",
+    "replay, folder as checkpoint": ("from softarm.imagine.replay import replay; replay('.', REC)",
                                      "is a folder, not a checkpoint"),
-    "replay, malformed --blind": ("from softarm.imagine.run import replay; replay(CKPT, REC, ['2:1'])", "'2:1'"),
-    "adapt, missing checkpoint": ("from softarm.learn.adapt_run import adapt; adapt('missing.pt', REC, 2.0, 'a.pt')",
+    "replay, malformed --blind": ("from softarm.imagine.replay import replay; replay(CKPT, REC, ['2:1'])", "'2:1'"),
+    "adapt, missing checkpoint": ("from softarm.learn.adapt import adapt; adapt('missing.pt', REC, 2.0, 'a.pt')",
                                   "checkpoint missing.pt not found"),
-    "train, missing recording": ("from softarm.learn.run import train; train(['missing.mcap'], out='m.pt')",
+    "train, missing recording": ("from softarm.learn.training import train; train(['missing.mcap'], out='m.pt')",
                                  "recording missing.mcap not found"),
-    "evaluate, missing checkpoint": ("from softarm.suite.run import evaluate; evaluate('missing.pt', SUITE)",
+    "evaluate, missing checkpoint": ("from softarm.suite.evaluate import evaluate; evaluate('missing.pt', SUITE)",
                                      "checkpoint missing.pt not found"),
 }
 

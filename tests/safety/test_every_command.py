@@ -93,7 +93,7 @@ def shared(recordings, tiny_checkpoint, tmp_path_factory) -> Path:
 
     from softarm.config import load_config
     from softarm.real.robot_log import make_robot_log
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     folder = tmp_path_factory.mktemp("shared")
     shutil.copy(recordings / "s1.mcap", folder / "x.mcap")

@@ -41,7 +41,7 @@ def fuzz(examples: int, case: Callable[[Any], bool]) -> None:
 
 @pytest.fixture(scope="module")
 def short_recording(tmp_path_factory) -> Path:
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     path = tmp_path_factory.mktemp("fuzz") / "short.mcap"
     simulate(load_config(overrides={"run.duration": 0.3}), path)

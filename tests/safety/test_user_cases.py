@@ -133,7 +133,7 @@ def test_a_corpus_is_one_only_with_its_manifest_and_force_leaves_nothing_of_the_
 @pytest.mark.slow
 def test_an_interrupted_forced_training_leaves_no_metrics_of_the_old_run(rec, tmp_path):
     from softarm.config import load_config
-    from softarm.learn.run import train
+    from softarm.learn.training import train
     from tests.helpers.tiny import TINY
 
     first = train([rec], load_config(overrides={**TINY, "train.epochs_ae": 1, "train.epochs_lstm": 1}), tmp_path / "m.pt")

@@ -15,7 +15,7 @@ from softarm.sense.pairs import recording_stretch, stretch_for_pairs
 @pytest.fixture(scope="module")
 def recording_path(tmp_path_factory):
     """A 0.5 s recording of the default arm."""
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     path = tmp_path_factory.mktemp("sense") / "r.mcap"
     simulate(load_config(overrides={"run.duration": 0.5}), path)

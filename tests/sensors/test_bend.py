@@ -45,7 +45,7 @@ def test_the_rule_reads_a_bent_arc_as_its_turning_angle():
 
 @pytest.mark.slow
 def test_recorded_bend_follows_the_numpy_reference_and_passes_the_shared_checker(tmp_path):
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     config, _, expected = reference_run(0, 300)
     bent = load_config(overrides={"run.duration": 3.0, "sensors.bend": TRIPLES})
@@ -64,7 +64,7 @@ def test_recorded_bend_follows_the_numpy_reference_and_passes_the_shared_checker
 
 @pytest.mark.slow
 def test_the_learner_reads_recorded_and_recomputed_bend_alike_and_the_default_recording_has_none(tmp_path):
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     simulate(load_config(overrides={"run.duration": 1.0, "sensors.bend": TRIPLES, "sensing.bend_noise": 0.0}),
              tmp_path / "b.mcap")

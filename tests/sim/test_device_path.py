@@ -44,7 +44,7 @@ def test_device_array_path_equals_the_cpu_path(monkeypatch):
 def test_a_recording_made_on_the_gpu_path_is_the_cpu_paths_byte_for_byte(monkeypatch, tmp_path):
     """The whole `simulate` as on a GPU (device arrays, the gathered kernel, the next block stepped while the host
     writes the last one, frames drawn from the device's positions) writes the CPU's files."""
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     config = load_config(overrides={"run.duration": 12.0, "run.arms": 3, "disturbances": [  # blocks of 500 frames
         {"kind": "push", "start": 0.5, "end": 0.8, "force": [0.05, 0.0], "nodes": [42, 43, 44]}]})

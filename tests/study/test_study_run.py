@@ -16,7 +16,7 @@ from softarm.errors import OutputError
 from softarm.study.ledger import LEDGER
 from softarm.study.plan import Study, Trial
 from softarm.study.prepare import corpus_fits
-from softarm.study.run import run_study
+from softarm.study.runner import run_study
 from softarm.study.scale import Scale
 from softarm.suite.families import SUITE_VERSION
 
@@ -51,7 +51,7 @@ def ray_session():
 @pytest.fixture(scope="module")
 def tiny_data(tmp_path_factory):
     """The tiny scale's corpus, and a two-family suite of two 2 s recordings per level (the real one takes 15 s)."""
-    from softarm.sim.run import simulate
+    from softarm.sim.simulate import simulate
 
     folder = tmp_path_factory.mktemp("data")
     write_corpus(folder / "corpus", TINY.preset, TINY.arms, TINY.duration)

@@ -9,7 +9,7 @@ import pytest
 
 from softarm.config import load_config
 from softarm.record.reader import read_recording
-from softarm.sim.run import simulate
+from softarm.sim.simulate import simulate
 from softarm.suite.families import (
     CANDIDATES,
     DURATION,
@@ -124,7 +124,7 @@ def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, 
 
 @pytest.mark.slow
 def test_sensor_noise_reaches_the_stretch_answers_and_nothing_else(suite_folder, tiny_checkpoint, tmp_path):
-    from softarm.suite.evaluate import evaluate_suite
+    from softarm.suite.scoring import evaluate_suite
 
     calm = part_of_suite(suite_folder, tmp_path, ("paper_amplitude",))  # one family: two evaluations in seconds
     clean = evaluate_suite(tiny_checkpoint.checkpoint, calm)["families"]["paper_amplitude"]

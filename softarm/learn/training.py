@@ -127,9 +127,9 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
            start: float) -> TrainResult:
     """Read, fit, evaluate and save, once every input and output is checked and held."""
     from softarm.learn.calibrate import fit_calibration
-    from softarm.learn.evaluate import evaluate, fit_baselines  # torch loads here, not when softarm is imported
+    from softarm.learn.evaluate import fit_baselines, training_metrics  # torch loads here, not when softarm is imported
+    from softarm.learn.loop import fit
     from softarm.learn.surprise_fit import fit_surprise_of
-    from softarm.learn.train import fit
     from softarm.learn.train_state import start_state
 
     if not resume:
@@ -157,7 +157,7 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
     stages("fitting", 2, 4)
     state.calibration = fit_calibration(state)
     stages("fitting", 3, 4)
-    metrics = evaluate(state)
+    metrics = training_metrics(state)
     stages("fitting", 4, 4)
     state.save(out, metrics)
     metrics_file = write_json(metrics_path_for(out), metrics)

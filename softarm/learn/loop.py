@@ -24,7 +24,7 @@ from softarm.learn.precision import forward_precision
 from softarm.learn.train_state import TrainState
 from softarm.model.autoencoder import in_batches, reconstruct
 from softarm.model.device import tensor_on
-from softarm.model.latent import LatentModel, Step
+from softarm.model.latent import LatentModel, Step, StepLoss
 from softarm.registry import latent_model_class
 
 CLIP_FRAMES = 100  # the held-out clip shown each epoch: the first second of the imagination segment
@@ -136,9 +136,6 @@ def fit_latent(state: TrainState, model: LatentModel, optimizer: torch.optim.Opt
         if state.epoch % 10 == 0 or state.epoch == schedule.epochs:
             show_clip(state, observer, imagination=True)
     return True
-
-
-StepLoss = tuple[torch.Tensor, float, int]  # (loss to minimise, loss to report, items it covers)
 
 
 def run_epoch(network: torch.nn.Module, optimizer: torch.optim.Optimizer, steps: Iterable[Step], schedule: Schedule,
