@@ -20,7 +20,7 @@ class Scale:
 
 
 # Half the default corpus and about a third of the default schedule: a trial takes some 4 to 5 minutes on
-# one core here, so the 15 trials of `sensors` take about half an hour on this 2-core machine (README).
+# one core here, so the 19 trials of `sensors` (15 stretch, 4 bend) take some 40 minutes on this 2-core machine.
 FULL = Scale("full", "general", 32, 60.0, {"train.max_steps_ae": 2000, "train.max_steps_lstm": 6000})
 QUICK = Scale("quick", "general", 15, 20.0, {"train.max_steps_ae": 300, "train.max_steps_lstm": 1000},
               first_recording_only=True, quick_trials=True)
