@@ -82,8 +82,8 @@ class RecordingWriter:
         self._obstacles = [(i, np.array(d["centre"], float), float(d["radius"]))
                            for i, d in enumerate(disturbances) if d.get("kind") == "obstacle"]
         self._free = np.setdiff1d(np.arange(len(model["nodes"])), model["driven"]) if self._obstacles else None
-        rest = np.asarray(model["nodes"], np.float64)
-        self._sensors = [(kind, np.asarray(model[kind.name], np.int64), rest) for kind in declared(model)]
+        self._sensors = [(kind, np.asarray(model[kind.name], np.int64), np.asarray(model["nodes"], np.float64))
+                         for kind in declared(model)]
         schemas = {**JSON_SCHEMAS, **(ACTIVATION_SCHEMA if "muscles" in model else {}),
                    **(CONTACT_SCHEMA if self._obstacles else {}), **{k: v for kind, _, _ in self._sensors
                                                                      for k, v in sensor_schema(kind).items()}}

@@ -54,7 +54,7 @@ def test_validating_a_latent_model_less_often_leaves_its_weights_as_they_were(re
 
     import torch
 
-    from softarm.learn import train as training
+    from softarm.learn import loop as training
     from softarm.learn.training import train
     from softarm.model.checkpoint import load_checkpoint
 
