@@ -10,9 +10,10 @@ from softarm_cli.options import Force, Quiet
 
 from softarm.real.settings import ImportSettings, parse_frame_dt, parse_roi
 
-MASK_HELP = ("Which pixels are arm: auto (the Otsu rule that separates best, cleaned), CHANNEL>VALUE or CHANNEL<VALUE "
-             "(channels r g b gray h s v, or diff and chroma against the background; VALUE a number 0..255, hue in "
-             "degrees, or otsu), or hsv=H0-H1,S0-S1,V0-V1.")
+MASK_HELP = ("Which pixels are arm: auto (the Otsu rule that separates best, then a cut over the colours fitted to its "
+             "classes, cleaned), CHANNEL>VALUE or CHANNEL<VALUE (channels r g b gray h s v, or diff and chroma against "
+             "the background; VALUE a number 0..255, hue in degrees, or otsu), hsv=H0-H1,S0-S1,V0-V1, or "
+             "rgb=WR,WG,WB>CUT (WR r + WG g + WB b > CUT).")
 
 
 def import_log(
@@ -67,8 +68,13 @@ def say_import(report: Any, scale_given: bool) -> None:
     say(f"overlap: {report.overlap[0]:.3f}..{report.overlap[1]:.3f} s of the camera's time; "
               f"{report.frames} frames every {report.frame_dt * 1e3:.2f} ms, {report.frames - len(report.gaps)} with a "
               f"camera image ({len(report.gaps)} without: training skips them); the camera dropped {report.dropped} frame(s)")
-    chose = f"auto chose {report.rule} (separability {report.separability:.2f}); " if report.separability is not None else ""
-    say(f"mask: {chose}{report.coverage:.1%} of pixels are arm" + (f" (Otsu threshold {report.threshold:.0f})" if report.threshold is not None else ""))
+    otsu = f"Otsu threshold {report.threshold:.0f}" if report.threshold is not None else ""
+    if report.auto_rule is not None:
+        cut = f", cut over colour as {report.rule}" if report.rule != report.auto_rule else ""
+        say(f"mask: auto chose {report.auto_rule} ({otsu}, separability {report.separability:.2f}){cut}; "
+            f"{report.coverage:.1%} of pixels are arm")
+    else:
+        say(f"mask: {report.coverage:.1%} of pixels are arm" + (f" ({otsu})" if otsu else ""))
     if report.pixels_per_metre is not None:
         say(f"scale: {report.pixels_per_metre:.1f} px/m in the recording's frames "
             f"({'from --scale' if scale_given else 'from --arm-length and the masks'})")

@@ -18,7 +18,18 @@ from softarm.real.fields import header_stamp
 from softarm.real.images import crop_box, decode_image
 from softarm.real.log import LogFile
 from softarm.real.pool import segment_task
-from softarm.real.segment import SEPARABLE, Auto, MaskRule, choose_rule, downsample, main_parts, otsu, parse_mask
+from softarm.real.segment import (
+    BACKGROUND_CHANNELS,
+    SEPARABLE,
+    Auto,
+    MaskRule,
+    choose_rule,
+    downsample,
+    fit_colour,
+    main_parts,
+    otsu,
+    parse_mask,
+)
 from softarm.real.settings import ImportSettings
 
 Other = dict[str, Callable[[int, object], None]]
@@ -44,6 +55,7 @@ class CameraReader:
         self.background: Optional[np.ndarray] = None
         self.threshold: Optional[float] = None
         self.separability: Optional[float] = None  # of the rule `auto` chose
+        self.chosen: Optional[str] = None          # the Otsu rule `auto` chose (its colour cut is then applied)
         self.clean = isinstance(self.rule, Auto)   # keep only the mask's main parts
 
     def decode(self, message: object) -> tuple[object, np.ndarray, tuple[int, int]]:
@@ -71,11 +83,13 @@ class CameraReader:
         elif background is not None:
             self.background = _background_file(Path(background), shape, decoded[0][2], self.settings.roi)
         if isinstance(self.rule, Auto):
-            self.rule, self.threshold, self.separability = choose_rule(samples, self.background)
+            seed, self.threshold, self.separability = choose_rule(samples, self.background)
             if self.separability < SEPARABLE:
-                warnings.warn(f"{self.where}: no mask rule separates the arm well (the best, {self.rule.text}, scores "
+                warnings.warn(f"{self.where}: no mask rule separates the arm well (the best, {seed.text}, scores "
                               f"{self.separability:.2f} of 1); look at --preview PNG and give --mask or --roi",
                               stacklevel=2)
+            colour = None if seed.name in BACKGROUND_CHANNELS else fit_colour(samples, seed, self.threshold)
+            self.rule, self.chosen = colour or seed, seed.text
         elif self.rule.needs_otsu:
             self.threshold = otsu(np.concatenate([self.rule.channel(p, self.background).ravel() for p in samples]))
 

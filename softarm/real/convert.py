@@ -43,8 +43,9 @@ class ImportReport:
     overlap: tuple[float, float]  # s on the camera's clock, relative to its first frame
     threshold: Optional[float]
     coverage: float               # mean share of the camera's pixels that are arm
-    rule: str                     # the mask rule applied (the one `auto` chose)
+    rule: str                     # the mask rule applied (for `auto`, the colour cut it fitted, else the rule it chose)
     separability: Optional[float]  # Otsu's separability of the rule `auto` chose (None for a rule given)
+    auto_rule: Optional[str]      # the Otsu rule `auto` chose, whose classes the colour cut was fitted to
     pixels_per_metre: Optional[float]  # of the recording's frames (from --scale or --arm-length; None: unknown)
 
     def to_dict(self) -> dict[str, Any]:
@@ -87,7 +88,7 @@ def _import(log_path: Path, out: Path, settings: ImportSettings, progress: Calla
     report = ImportReport(out, len(grid.times), float(grid.times[-1] - grid.times[0]), 1 / camera_period(masks.stamps),
                           rate(sensors.stamps), rate(drive.stamps) if drive is not None else None, dt, lag,
                           settings.lag is None, fit, grid.gaps.tolist(), dropped_frames(masks.stamps), overlap,
-                          camera.threshold, coverage, camera.rule.text, camera.separability,
+                          camera.threshold, coverage, camera.rule.text, camera.separability, camera.chosen,
                           frame_scale(masks, settings))
     source = {"log": str(log_path), "sha256": digest, "settings": settings.to_dict(),
               "found": report.to_dict() | {"t0": float(grid.times[0]), "camera_size": list(masks.size),

@@ -2,10 +2,11 @@
 
 A rule picks the arm's pixels: a threshold on one channel (`r`, `g`, `b`, `gray`, `h`, `s`, `v`; or against a
 background frame, `diff`, the largest colour difference, or `chroma`, the difference in chromaticity, blind to
-how bright the light is), fixed or by Otsu over the recording, or a range in HSV. `auto` chooses among the Otsu
-rules by how well each separates two classes (`choose_rule`) and keeps the mask's main parts (`main_parts`). The image is cut to a region of interest first; the mask is then area-averaged down to the
-camera size and thresholded at one half, as softarm's own camera counts a pixel as arm when the arm covers most
-of it.
+how bright the light is), fixed or by Otsu over the recording, a range in HSV, or a straight cut through the
+colours (`rgb=...`). `auto` chooses among the Otsu rules by how well each separates two classes (`choose_rule`),
+fits the colour cut to the classes it found (`fit_colour`) and keeps the mask's main parts (`main_parts`). The
+image is cut to a region of interest first; the mask is then area-averaged down to the camera size and
+thresholded at one half, as softarm's own camera counts a pixel as arm when the arm covers most of it.
 """
 
 import re
@@ -25,6 +26,10 @@ CANDIDATES = ("r", "g", "b", "gray", "s", "v")  # what `auto` tries (hue is circ
 SEPARABLE = 0.7  # separability below which `auto` warns: a single Gaussian class scores 0.64, a uniform spread 0.75
 _THRESHOLD = re.compile(r"^(r|g|b|gray|h|s|v|diff|chroma)\s*([<>])\s*(otsu|\d+(?:\.\d*)?)$")
 _HSV = re.compile(r"^hsv\s*=\s*(\d+)-(\d+)\s*,\s*(\d+)-(\d+)\s*,\s*(\d+)-(\d+)$")
+_NUMBER = r"\s*([-+]?\d+(?:\.\d*)?)\s*"
+_COLOUR = re.compile(rf"^rgb\s*={_NUMBER},{_NUMBER},{_NUMBER}>{_NUMBER}$")
+SURE = 0.5  # the pixels a colour cut is fitted to: beyond this share of the way from Otsu's cut to their class's median
+FIT_PIXELS = 200  # a colour cut needs at least this many sure pixels in each class
 
 
 class MaskRule:
@@ -93,6 +98,25 @@ class HsvRange(MaskRule):
 
 
 @dataclass(frozen=True)
+class Colour(MaskRule):
+    """`rgb=WR,WG,WB>CUT`: the arm where WR r + WG g + WB b > CUT. Where the arm covers a share of a pixel, the pixel's
+    colour is the arm's and the wall's mixed in that share, linear in r, g, b; so a cut halfway between the two
+    classes' mean colours keeps a pixel the arm covers at least half of, as softarm's camera counts one, however
+    blurred the edge (a cut on saturation or brightness ratios, not linear in the mix, moves it). `seed`: the Otsu
+    rule whose classes `auto` fitted the cut to ("" when the rule was given)."""
+    text: str
+    weights: tuple[float, float, float]
+    cut: float
+    seed: str = ""
+
+    def channel(self, rgb: np.ndarray, background: Optional[np.ndarray]) -> np.ndarray:
+        return rgb.astype(np.float32) @ np.asarray(self.weights, np.float32)
+
+    def apply(self, values: np.ndarray, threshold: Optional[float]) -> np.ndarray:
+        return values > self.cut
+
+
+@dataclass(frozen=True)
 class Auto(MaskRule):
     """`auto`: the Otsu rule that separates the first look's frames best, its mask cleaned; chosen before any frame
     is segmented (`CameraReader.first_look`), so it is never applied itself."""
@@ -110,8 +134,14 @@ def parse_mask(text: str) -> MaskRule:
     if (m := _HSV.match(clean)) is not None:
         n = [float(x) for x in m.groups()]
         return HsvRange(text, (n[0], n[1]), (n[2], n[3]), (n[4], n[5]))
+    if (m := _COLOUR.match(clean)) is not None:
+        n = [float(x) for x in m.groups()]
+        if not any(n[:3]):
+            raise ConfigError(f"--mask {text!r}: the colour weights are all zero; give at least one")
+        return Colour(text, (n[0], n[1], n[2]), n[3])
     raise ConfigError(f"--mask {text!r}: give CHANNEL>VALUE or CHANNEL<VALUE with CHANNEL one of "
-                      f"{', '.join(CHANNELS)} and VALUE a number or otsu (e.g. s>otsu), hsv=H0-H1,S0-S1,V0-V1, or auto")
+                      f"{', '.join(CHANNELS)} and VALUE a number or otsu (e.g. s>otsu), hsv=H0-H1,S0-S1,V0-V1, "
+                      "rgb=WR,WG,WB>CUT, or auto")
 
 
 def channel_values(rgb: np.ndarray, name: str) -> np.ndarray:
@@ -178,6 +208,33 @@ def choose_rule(samples: list[np.ndarray], background: Optional[np.ndarray]) -> 
             best = rule, threshold, score
     assert best is not None
     return best
+
+
+def fit_colour(samples: list[np.ndarray], seed: Threshold, threshold: float) -> Optional[Colour]:
+    """The colour cut that best separates the classes `seed` finds in the samples (Fisher's linear discriminant over
+    r, g, b of the pixels it is sure of, `SURE`), halfway between the classes' mean colours; None when either class
+    has fewer than FIT_PIXELS sure pixels or their colours do not differ."""
+    colours = np.concatenate([p.reshape(-1, 3) for p in samples]).astype(np.float64)
+    values = np.concatenate([np.asarray(seed.channel(p, None), np.float64).ravel() for p in samples])
+    arm = seed.apply(values, threshold)
+    if arm.all() or not arm.any():
+        return None
+    sure = []
+    for side in (arm, ~arm):
+        median = float(np.median(values[side]))
+        sure.append(side & (np.abs(values - threshold) > SURE * abs(median - threshold)))
+    if min(int(s.sum()) for s in sure) < FIT_PIXELS:
+        return None
+    means = [colours[s].mean(axis=0) for s in sure]
+    within = sum(np.cov(colours[s].T) * s.sum() for s in sure) / sum(s.sum() for s in sure)
+    within += 1e-3 * np.trace(within) / 3 * np.eye(3)  # a flat colour (no spread in a channel) stays solvable
+    weights = np.linalg.solve(within, means[0] - means[1])
+    if not np.any(weights):
+        return None
+    weights = np.round(weights / np.abs(weights).max(), 3)
+    cut = round(float(weights @ (means[0] + means[1])) / 2, 2)
+    text = f"rgb={weights[0]:g},{weights[1]:g},{weights[2]:g}>{cut:g}"
+    return Colour(text, (float(weights[0]), float(weights[1]), float(weights[2])), cut, seed.text)
 
 
 def main_parts(mask: np.ndarray, share: float = 0.25) -> np.ndarray:

@@ -1,11 +1,13 @@
-"""`--mask auto`: the Otsu rule that separates best, on the side that leaves the arm the smaller class, and masks
+"""`--mask auto`: the Otsu rule that separates best, on the side that leaves the arm the smaller class, the colour
+cut fitted to its classes (judged on blurred edges against the share of each pixel the arm covers), and masks
 cleaned to their main parts; judged on synthetic scenes against the arm drawn into them, and on robot-style logs
 of other scenes against the recording they were made from."""
 
 import numpy as np
 import pytest
 
-from softarm.real.segment import choose_rule, chroma_difference, main_parts
+from softarm.errors import ConfigError
+from softarm.real.segment import choose_rule, chroma_difference, fit_colour, main_parts, parse_mask
 
 
 def scene(arm_rgb, wall_rgb, seed: int = 0) -> tuple[list[np.ndarray], np.ndarray]:
@@ -28,6 +30,58 @@ def test_auto_finds_the_arm_whatever_its_colour_against_the_wall(arm_rgb, wall_r
     rule, threshold, score = choose_rule(frames, None)
     found = rule.apply(rule.channel(frames[0], None), threshold)
     assert (found & arm).sum() / (found | arm).sum() > 0.98 and score > 0.8, (rule.text, score)
+
+
+def blurred_scene(arm_rgb, wall_rgb, seed: int = 0) -> tuple[list[np.ndarray], np.ndarray]:
+    """Four frames of a textured wall and a tapering arm whose edges are blurred: each pixel the wall's and the
+    arm's colour mixed in the share of it the arm covers (a camera's blur or a smeared exposure), returned with
+    that share, the reference any rule's mask is judged against (a pixel is arm where it is covered at least half)."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[0:120, 0:80].astype(float)
+    half_width = 9.0 - 7.0 * yy / 120  # wide at the base, thin at the tip
+    cover = np.clip((half_width - np.abs(xx - 40)) / 4.0 + 0.5, 0, 1) * (yy < 110)  # edges 4 px wide
+    frames = []
+    for _ in range(4):
+        wall = (np.asarray(wall_rgb, float) + rng.normal(0, 6, (120, 80, 1)) + rng.normal(0, 3, (120, 80, 3))
+                + 20 * np.sin(xx / 7)[..., None])
+        mixed = cover[..., None] * np.asarray(arm_rgb, float) + (1 - cover[..., None]) * wall
+        frames.append(np.clip(np.rint(mixed), 0, 255).astype(np.uint8))
+    return frames, cover
+
+
+@pytest.mark.parametrize("arm_rgb, wall_rgb", [((215, 95, 35), (98, 128, 126)), ((40, 35, 45), (200, 200, 190))])
+def test_the_colour_cut_keeps_the_pixels_the_arm_covers_at_least_half_of(arm_rgb, wall_rgb):
+    frames, cover = blurred_scene(arm_rgb, wall_rgb)
+    seed, threshold, _ = choose_rule(frames, None)
+    colour = fit_colour(frames, seed, threshold)
+    assert colour is not None and colour.seed == seed.text
+    truth = cover >= 0.5
+
+    def iou(found: np.ndarray) -> float:
+        return float((found & truth).sum() / (found | truth).sum())
+    by_colour = [iou(colour.apply(colour.channel(f, None), None)) for f in frames]
+    by_seed = [iou(seed.apply(seed.channel(f, None), threshold)) for f in frames]
+    assert min(by_colour) > 0.95 and np.mean(by_colour) > np.mean(by_seed) + 0.005, (seed.text, by_colour, by_seed)
+
+
+def test_the_colour_cut_prints_as_a_rule_that_parses_back_to_the_same_masks():
+    frames, _ = blurred_scene((215, 95, 35), (98, 128, 126))
+    colour = fit_colour(frames, *choose_rule(frames, None)[:2])
+    again = parse_mask(colour.text)
+    assert again.weights == colour.weights and again.cut == colour.cut
+    assert np.array_equal(again.apply(again.channel(frames[1], None), None), colour.apply(colour.channel(frames[1], None),
+                                                                                          None))
+    with pytest.raises(ConfigError, match="all zero"):
+        parse_mask("rgb=0,0,0>10")
+    with pytest.raises(ConfigError, match="rgb=WR,WG,WB>CUT"):
+        parse_mask("rgb=1,2>10")
+
+
+def test_no_colour_cut_is_fitted_where_the_rule_finds_a_single_class():
+    flat = [np.full((40, 40, 3), 120, np.uint8) for _ in range(2)]
+    from softarm.real.segment import Threshold
+
+    assert fit_colour(flat, Threshold("s>otsu", "s", True, None), 10.0) is None
 
 
 def test_a_scene_with_no_arm_to_separate_scores_below_the_warning():
