@@ -16,12 +16,12 @@ import numpy as np
 import torch
 
 from softarm.config import load_config, override
+from softarm.imagine.imaginer import Imaginer
 from softarm.imagine.stream import StreamingImaginer
+from softarm.imagine.trained import TrainedModel
 from softarm.model.autoencoder import Autoencoder
-from softarm.model.imaginer import Imaginer
 from softarm.model.inputs import Inputs, channels
 from softarm.model.scaler import Scaler
-from softarm.model.trained import TrainedModel
 from softarm.registry import LATENT_MODELS, latent_model_class
 
 PERIOD_MS = 10.0  # the default frame step: 100 samples a second

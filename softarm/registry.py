@@ -25,9 +25,9 @@ INPUT_CHANNELS = {
 }
 
 TRUST = {
-    "error_head": "softarm.model.trust:ErrorHeadTrust",  # the error head's predicted squared error
-    "ensemble": "softarm.model.trust:EnsembleTrust",      # the members' disagreement (train.ensemble > 1)
-    "calibrated": "softarm.model.trust:CalibratedTrust",  # the IoU predicted from error, surprise and spread
+    "error_head": "softarm.trust.confidence:ErrorHeadTrust",  # the error head's predicted squared error
+    "ensemble": "softarm.trust.confidence:EnsembleTrust",      # the members' disagreement (train.ensemble > 1)
+    "calibrated": "softarm.trust.confidence:CalibratedTrust",  # the IoU predicted from error, surprise and spread
 }
 
 

@@ -32,7 +32,7 @@ READINGS: dict[str, Callable[[Any], Any]] = {  # each arm's reading now, (arms, 
 class ImaginedBody(VectorWrapper):
     def __init__(self, env: VectorEnv, checkpoint: Union[str, Path], pixels: bool = False):
         super().__init__(env)
-        from softarm.model.trained import TrainedModel
+        from softarm.imagine.trained import TrainedModel
 
         self.imaginer = TrainedModel(checkpoint).imaginer
         self.model, self.pixels = self.imaginer.latent, pixels

@@ -12,8 +12,8 @@ from typing import Any, Optional, Sequence, Union
 import numpy as np
 
 from softarm.imagine.blind import blind_mask, fused_scores
+from softarm.imagine.trained import TrainedModel
 from softarm.model.metrics import frame_scores, spearman, summarise
-from softarm.model.trained import TrainedModel
 from softarm.record.reader import Recording
 
 

@@ -18,7 +18,7 @@ import numpy as np
 from softarm.model.prediction import Prediction, joined_members
 
 if TYPE_CHECKING:
-    from softarm.model.imaginer import Imaginer
+    from softarm.imagine.imaginer import Imaginer
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,7 @@ class StreamingImaginer:
         """The streamer of a checkpoint written by `softarm train`, for sensors with the imperfections it was
         trained with, or those of `sensor_noise` (keys of [sensing] but pairs: `{"noise": 2e-5}`), which its
         surprise then expects (as replay's `--sensor-noise` does)."""
-        from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
+        from softarm.imagine.trained import TrainedModel  # torch loads here, not when softarm is imported
 
         model = TrainedModel(path)
         return cls(model.imaginer_for(model.with_sensors(sensor_noise)))

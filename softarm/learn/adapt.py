@@ -37,7 +37,7 @@ def adapt(checkpoint: PathLike, recording: PathLike, seconds: float, out: PathLi
     check_outputs([Path(out)], force, inputs=[checkpoint, recording])
     input_file(checkpoint, "checkpoint", CheckpointError)  # missing inputs are refused before torch loads
     read_model(recording)
-    from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
+    from softarm.imagine.trained import TrainedModel  # torch loads here, not when softarm is imported
 
     try:
         with stop_on_signal() as caught:

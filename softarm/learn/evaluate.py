@@ -6,19 +6,19 @@ from typing import Any, Optional
 
 import numpy as np
 
+from softarm.imagine.answers import score_answers
+from softarm.imagine.imaginer import Imaginer
 from softarm.learn.codes import LatentCodes
 from softarm.learn.dataset import Dataset
 from softarm.learn.train_state import TrainState
 from softarm.model import node_ridge
-from softarm.model.answers import score_answers
 from softarm.model.autoencoder import reconstruct
 from softarm.model.baselines import Baselines, ridge_fit
-from softarm.model.imaginer import Imaginer
 from softarm.model.latent import LatentModel
 from softarm.model.metrics import image_scores, summarise
 from softarm.model.prediction import Prediction
-from softarm.model.trust import ErrorHeadTrust
 from softarm.registry import trust_class
+from softarm.trust.confidence import ErrorHeadTrust
 
 MAX_SCORED = 10_000  # held-out frames scored per segment: a corpus's metrics cost what one long recording's do
 

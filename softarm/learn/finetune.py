@@ -19,12 +19,12 @@ from typing import Callable
 import numpy as np
 import torch
 
+from softarm.imagine.imaginer import Imaginer
 from softarm.interrupt import Stopped
 from softarm.model.autoencoder import encode_frames
 from softarm.model.device import tensor_on
-from softarm.model.imaginer import Imaginer
 from softarm.model.latent import LatentModel
-from softarm.model.surprise import LAGS, SurpriseModel
+from softarm.trust.surprise import LAGS, SurpriseModel
 
 STEPS = 150           # Adam steps of the fine-tuning
 LEARNING_RATE = 1e-3

@@ -27,8 +27,8 @@ from softarm.model.device import torch_device
 from softarm.model.inputs import Inputs, channels, chosen_inputs
 from softarm.model.latent import LatentModel, TrainingSeries
 from softarm.model.scaler import Scaler
-from softarm.model.surprise import SurpriseModel
 from softarm.registry import latent_model_class
+from softarm.trust.surprise import SurpriseModel
 
 REFITTED = ("confidence", "false_alarms_per_minute", "device")  # what --resume always takes from the asked settings:
 # the first two are fitted after training, so a finished model sets them anew, and a run continues on the device it
@@ -54,7 +54,7 @@ class TrainState:
     member: Optional[LatentModel] = None   # the member in training
     member_optimizer: Optional[torch.optim.Optimizer] = None
     surprise: Optional[SurpriseModel] = None
-    calibration: Optional[dict[str, Any]] = None   # the calibrated confidence's map (learn/calibrate.py)
+    calibration: Optional[dict[str, Any]] = None   # the calibrated confidence's map (learn/trust_fits.py)
     baselines: Optional[Baselines] = None  # fitted once the model is whole, before the calibration that reads them
     saves: int = 0      # checkpoints this run has written
     device: torch.device = field(default_factory=lambda: torch.device("cpu"))  # where the networks and batches live

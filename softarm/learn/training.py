@@ -126,11 +126,10 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
            progress: Optional[Progress], stages: StageProgress, stop: Callable[[], bool], minutes: Optional[float],
            start: float) -> TrainResult:
     """Read, fit, evaluate and save, once every input and output is checked and held."""
-    from softarm.learn.calibrate import fit_calibration
     from softarm.learn.evaluate import fit_baselines, training_metrics  # torch loads here, not when softarm is imported
     from softarm.learn.loop import fit
-    from softarm.learn.surprise_fit import fit_surprise_of
     from softarm.learn.train_state import start_state
+    from softarm.learn.trust_fits import fit_calibration, fit_surprise_of
 
     if not resume:
         metrics_path_for(out).unlink(missing_ok=True)  # it described the checkpoint this run replaces

@@ -1,7 +1,7 @@
-"""The trained model and how it answers, in one room: the networks, the input channels it reads with their
-scalers, the checkpoint, the `Imaginer`, the baselines every answer is judged against, the metrics and one
-scorer of the four answers (model, ridge, mean frame, AE ceiling).
+"""The trained model's parts, in one room: the networks, the input channels it reads with their scalers, the
+checkpoint, the baselines every answer is judged against, its answers (`Prediction`) and the metrics.
 
-`softarm.learn` trains what is here; `softarm.imagine` (replay, the streamer) and `softarm.suite` use a
-checkpoint of it. A latent model is one class and one line of `registry`, an input channel likewise.
+`softarm.learn` trains what is here; `softarm.imagine` puts the parts together into an `Imaginer` and answers
+with a checkpoint (replay, the streamer), `softarm.trust` says how far to trust the answers. A latent model is
+one class and one line of `registry`, an input channel likewise.
 """

@@ -136,7 +136,7 @@ class LatentModel(nn.Module):
 
     def states(self, series: np.ndarray) -> np.ndarray:
         """(T, H) float64: the state the answer after each sample of a normalised series (T, P) reads;
-        NaN where the model has none yet. The surprise's memory check (`softarm.model.memory_check`) and adaptation
+        NaN where the model has none yet. The surprise's memory check (`softarm.trust.memory_check`) and adaptation
         (`softarm.learn.finetune`) read it."""
         raise NotImplementedError
 

@@ -22,7 +22,7 @@ class Prediction:
     def confidence(self) -> np.ndarray:
         """(M,) in (0, 1]: the error head's, 1 / (1 + the predicted mean squared error of the normalised latent);
         0.5 means the model expects to be as far off as a guess of the mean frame's code. A checkpoint's chosen
-        confidence is `softarm.model.trust`'s."""
+        confidence is `softarm.trust.confidence`'s."""
         return 1.0 / (1.0 + np.exp(self.log_error).mean(axis=1))
 
     def take(self, keep: np.ndarray) -> "Prediction":

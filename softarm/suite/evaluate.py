@@ -7,7 +7,7 @@ from softarm.errors import CheckpointError
 from softarm.files import check_outputs, claimed, input_file, made_folders, write_json
 from softarm.suite.manifest import MANIFEST, read_suite
 from softarm.suite.scoring import Progress, evaluate_suite
-from softarm.suite.trust import FRACTIONS
+from softarm.trust.scoring import FRACTIONS
 
 PathLike = Union[str, Path]
 
@@ -32,7 +32,7 @@ def evaluate(checkpoint: PathLike, suite: PathLike, json_path: Optional[PathLike
 
             save_suite_png(evaluation, png)
         if trust_png is not None:
-            from softarm.view.trust_plot import save_sparsification_png
+            from softarm.trust.plot import save_sparsification_png
 
             save_sparsification_png(evaluation["confidence"], trust_png, FRACTIONS, evaluation["checkpoint"])
     return evaluation

@@ -15,11 +15,11 @@ import numpy as np
 
 from softarm.registry import trust_classes
 from softarm.suite.manifest import SuiteCase, read_suite
-from softarm.suite.surprise import CaseSurprise, case_surprise, surprise_report
-from softarm.suite.trust import FLAGGED, LEAST_TRUSTED, trust_scores, with_reference
+from softarm.trust.detection import CaseSurprise, case_surprise, surprise_report
+from softarm.trust.scoring import FLAGGED, LEAST_TRUSTED, trust_scores, with_reference
 
 if TYPE_CHECKING:
-    from softarm.model.trained import TrainedModel
+    from softarm.imagine.trained import TrainedModel
 
 Progress = Callable[[int, int], None]
 
@@ -32,7 +32,7 @@ def evaluate_suite(checkpoint: Union[str, Path], folder: Union[str, Path],
     Each level is read with the imperfections the suite gives it, over those the checkpoint was trained
     with; `sensor_noise` replaces both for every level.
     """
-    from softarm.model.trained import TrainedModel  # torch loads here, not when softarm is imported
+    from softarm.imagine.trained import TrainedModel  # torch loads here, not when softarm is imported
 
     suite = read_suite(folder)
     model = TrainedModel(checkpoint, device)
@@ -73,7 +73,7 @@ class CaseScorer:
               ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, tuple[np.ndarray, np.ndarray]], CaseSurprise]:
         """Per-frame scores of every answer on one recording; every confidence the checkpoint can give of each
         frame with the IoU a calibrated predictor of its spread would see there; the frames' surprise."""
-        from softarm.model.answers import PRIVILEGED, score_answers, score_node_ridge
+        from softarm.imagine.answers import PRIVILEGED, score_answers, score_node_ridge
         from softarm.model.autoencoder import encode_frames
         from softarm.record.reader import read_model
 

@@ -9,7 +9,7 @@ from softarm.envs.imagined import ImaginedBody
 from softarm.envs.sb3 import StableBaselinesVecEnv
 from softarm.envs.vector import SoftArmVectorEnv
 from softarm.errors import CheckpointError
-from softarm.model.trained import TrainedModel
+from softarm.imagine.trained import TrainedModel
 from tests.envs.conftest import random_commands
 
 QUICK = load_config(overrides={"control.episode": 0.3, "control.hold": 0.1, "control.workspace_samples": 16})  # 30 steps

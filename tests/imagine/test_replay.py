@@ -11,7 +11,7 @@ from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
 from softarm.imagine.replay_data import compute_replay
-from softarm.model.surprise import LAGS
+from softarm.trust.surprise import LAGS
 from tests.helpers.cli import RERUN, assert_one_line_error, softarm
 
 pytestmark = pytest.mark.slow  # each test replays a trained checkpoint through the CLI: seconds

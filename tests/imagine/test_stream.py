@@ -6,9 +6,9 @@ import pytest
 
 from softarm import StreamingImaginer
 from softarm.imagine.replay_data import compute_replay
-from softarm.model.surprise import LAGS
-from softarm.model.trained import TrainedModel
+from softarm.imagine.trained import TrainedModel
 from softarm.record.reader import read_recording
+from softarm.trust.surprise import LAGS
 
 
 @pytest.mark.slow

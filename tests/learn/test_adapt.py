@@ -7,9 +7,9 @@ import pytest
 import torch
 
 from softarm.config import load_config
+from softarm.imagine.trained import TrainedModel
 from softarm.learn.finetune import ridge_toward
 from softarm.model.autoencoder import encode_frames
-from softarm.model.trained import TrainedModel
 from tests.helpers.cli import assert_one_line_error, softarm
 
 

@@ -11,10 +11,10 @@ import torch
 
 from softarm.config import load_config
 from softarm.errors import ConfigError, SoftarmError
+from softarm.imagine.trained import TrainedModel
 from softarm.learn.packed_frames import PackedFrames
 from softarm.learn.train_state import _saved_config
 from softarm.model.device import on_cpu, torch_device
-from softarm.model.trained import TrainedModel
 from softarm.study.runner import trial_device
 from tests.helpers.cli import assert_one_line_error, softarm
 from tests.helpers.tiny import TINY

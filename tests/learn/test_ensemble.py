@@ -9,10 +9,10 @@ import pytest
 import torch
 
 from softarm.config import load_config
+from softarm.imagine.imaginer import Imaginer
+from softarm.imagine.trained import TrainedModel
 from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
-from softarm.model.imaginer import Imaginer
-from softarm.model.trained import TrainedModel
 from softarm.record.reader import read_recording
 from tests.helpers.tiny import TINY
 

@@ -7,11 +7,11 @@ import torch
 
 from softarm.config import load_config
 from softarm.errors import ConfigError
+from softarm.imagine.imaginer import Imaginer
 from softarm.learn.dataset import load_dataset
 from softarm.learn.node_targets import node_targets
 from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
-from softarm.model.imaginer import Imaginer
 from softarm.model.inputs import channels
 from softarm.record.reader import read_recording
 from tests.helpers.tiny import TINY

@@ -7,9 +7,9 @@ import pytest
 import torch
 
 from softarm.config import load_config
+from softarm.imagine.imaginer import Imaginer
 from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
-from softarm.model.imaginer import Imaginer
 from softarm.model.scaler import Scaler
 from tests.helpers.cli import assert_one_line_error, softarm
 from tests.helpers.tiny import TINY

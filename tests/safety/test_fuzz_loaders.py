@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from softarm.config import DEFAULT_CONFIG_TEXT, load_config
 from softarm.corpus.manifest import folder_recordings
-from softarm.model.trained import TrainedModel
+from softarm.imagine.trained import TrainedModel
 from softarm.record.reader import read_model, read_recording
 from softarm.study.plan import read_study
 from softarm.suite.families import SUITE_VERSION

@@ -93,7 +93,7 @@ def test_a_second_run_on_the_same_output_is_refused_and_the_first_finishes_whole
     if output.suffix == ".mcap":
         assert read_recording(output, nodes=False).complete
     else:
-        from softarm.model.trained import TrainedModel
+        from softarm.imagine.trained import TrainedModel
 
         TrainedModel(output)
     assert not list(tmp_path.glob(".*.lock")) and not list(tmp_path.glob("*.part"))

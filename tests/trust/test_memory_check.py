@@ -5,7 +5,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from softarm.learn.surprise_fit import fit_memory_check, fit_surprise
+from softarm.trust.surprise_fit import fit_memory_check, fit_surprise
 
 MIX = np.array([[1.0, -0.5], [0.3, 0.2], [0.0, 1.0], [0.7, 0.0], [-0.2, 0.4]])
 

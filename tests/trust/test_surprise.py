@@ -5,9 +5,9 @@ and the streamer's reader against the batch series."""
 import numpy as np
 import pytest
 
-from softarm.learn.surprise_fit import fit_surprise
-from softarm.model.alarm import alarm_onsets, alarm_threshold
-from softarm.model.surprise import LAGS, SMOOTHING, smoothed, vigour_signals
+from softarm.trust.alarm import alarm_onsets, alarm_threshold
+from softarm.trust.surprise import LAGS, SMOOTHING, smoothed, vigour_signals
+from softarm.trust.surprise_fit import fit_surprise
 
 DT = 0.01
 FELT, COMMAND = [0, 1], [2]

@@ -1,10 +1,10 @@
 """The surprise's forward model, its expected spread and the memory check, fitted once the latent model is trained
-(docs/model.md, Surprise).
+(docs/model.md, Surprise), from parts of normalised inputs (and the latent model's states) with their undisturbed
+samples marked (`softarm.learn.trust_fits` gathers them from the training).
 
-The training segments of every recording fit the forward model, the spread it expects from the arm's vigour and
-the memory check (from the latent model's states); the held-out motion (the test segments, validation recordings
-whole) sets each sensor's residual spreads and the alarm's threshold. Samples near a disturbance are left out of all of them: the model learns what undisturbed
-motion feels like.
+The fitting parts fit the forward model, the spread it expects from the arm's vigour and the memory check; the
+held-out motion sets each sensor's residual spreads and the alarm's threshold. Samples near a disturbance are
+left out of all of them: the model learns what undisturbed motion feels like.
 """
 
 from dataclasses import replace
@@ -12,10 +12,9 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from softarm.learn.train_state import TrainState
-from softarm.model.alarm import alarm_threshold
-from softarm.model.memory_check import MemoryCheck
-from softarm.model.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel, vigour
+from softarm.trust.alarm import alarm_threshold
+from softarm.trust.memory_check import MemoryCheck
+from softarm.trust.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel, vigour
 
 RIDGE = 1e-8          # the forward model's L2 penalty, relative to its mean squared feature
 MEMORY_RIDGE = 1e-4   # the memory check's, the same way
@@ -23,29 +22,6 @@ SPREAD_RIDGE = 1e-6   # the spread map's L2 penalty per sample
 SPREAD_FLOOR = 1e-3   # added to a squared residual before its logarithm
 
 Part = tuple[np.ndarray, np.ndarray]  # normalised inputs (T, F), undisturbed (T,) bool
-
-
-def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
-    """None when the model reads no sensor (nothing felt to be surprised by)."""
-    data, t = state.data, state.config.train
-    columns = np.cumsum([0, *data.widths])
-    felt = [c for ch, a, b in zip(data.channels, columns, columns[1:]) if ch.felt for c in range(a, b)]
-    command = [c for c in range(columns[-1]) if c not in felt]
-    if not felt:
-        return None
-    fitting, calibration = [], []
-    for seq in data.sequences:
-        read = state.inputs.normalise(seq.inputs).astype(np.float32)  # as the model reads them
-        states, inputs = state.latent.states(read), read.astype(np.float64)
-        calm = seq.calm if seq.calm is not None else np.ones(len(inputs), bool)
-        for segment, into in (("train", fitting), ("test", calibration)):
-            a, b = seq.segment(segment)
-            if b - a > LAGS + 1:
-                into.append((states[a:b], inputs[a:b], calm[a:b]))
-    calibration = calibration or fitting
-    model = fit_surprise([p[1:] for p in fitting], felt, command, [p[1:] for p in calibration],
-                         float(np.median(np.diff(data.sequences[0].times))), t.false_alarms_per_minute)
-    return replace(model, memory=fit_memory_check(fitting, felt, command, calibration))
 
 
 def fit_surprise(parts: Sequence[Part], felt: Sequence[int], command: Sequence[int], calibration: Sequence[Part],

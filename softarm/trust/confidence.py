@@ -3,7 +3,7 @@
 `train.confidence` picks the checkpoint's; `softarm evaluate` scores every way a checkpoint can answer, so they
 are compared on the same frames. Every confidence is in (0, 1], higher is surer. Each way also says what a
 perfectly calibrated predictor with its own predicted spread would see (`reference_iou`): the yardstick of
-its scores (`softarm.suite.trust`).
+its scores (`softarm.trust.scoring`).
 """
 
 from typing import Any, Callable, ClassVar, Optional
@@ -135,3 +135,13 @@ def calibration_features(prediction: Prediction, ridge_gap: bool) -> list[np.nda
     if prediction.spread is not None:
         features.append(np.log(prediction.spread.mean(axis=1) + 1e-12))
     return features
+
+
+def fit_calibrated(held_out: Prediction, iou: np.ndarray) -> dict[str, Any]:
+    """The calibrated confidence's map, {"weights": [...], "spread": s, "frames": n, "ridge_gap": true}: least
+    squares of log(1 - IoU + MARGIN) on the features of held-out frames whose true IoU is known."""
+    y = np.log(1.0 - iou + CalibratedTrust.MARGIN)
+    design = np.column_stack([*calibration_features(held_out, True), np.ones(len(y))])
+    weights = np.linalg.lstsq(design, y, rcond=None)[0]
+    return {"weights": weights.tolist(), "spread": float(np.std(y - design @ weights)), "frames": int(len(y)),
+            "ridge_gap": True}

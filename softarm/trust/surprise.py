@@ -27,7 +27,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from softarm.model.memory_check import MemoryCheck
+from softarm.trust.memory_check import MemoryCheck
 
 LAGS = 10            # samples of every input channel the forward model reads (100 ms at the default rate)
 WINDOWS = (5.0, 50.0)  # samples: time constants of the vigour averages

@@ -12,9 +12,9 @@ import numpy as np
 
 from softarm.config import config_from_dict, load_config
 from softarm.config.load import merge
+from softarm.imagine.imaginer import Imaginer
 from softarm.model import node_ridge
 from softarm.model.baselines import Baselines, ridge_predict
-from softarm.model.imaginer import Imaginer
 from softarm.model.metrics import frame_scores
 
 ANSWERS = ("model", "ridge", "mean_frame", "ae_ceiling")

@@ -6,7 +6,7 @@ the mean IoU of the `LEAST_TRUSTED` least-trusted frames against the rest's; and
 (the mean IoU of the frames kept as the least-trusted are dropped) beside the oracle's (dropping the worst
 by true IoU), whose area between (AUSE) is 0 for a perfect ranking. Raw correlations have no fixed scale (Pernot
 2024; Rasmussen et al. 2023), so each comes with a reference: the same score against the IoU a calibrated
-predictor would see, its error drawn from its own predicted spread (`softarm.model.trust.Trust.reference_iou`).
+predictor would see, its error drawn from its own predicted spread (`softarm.trust.confidence.Trust.reference_iou`).
 """
 
 from typing import Any

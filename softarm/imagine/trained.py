@@ -14,11 +14,11 @@ from typing import Any, Optional, Union
 import numpy as np
 
 from softarm.config import Config, override
+from softarm.imagine.imaginer import Imaginer
 from softarm.model.baselines import Baselines
 from softarm.model.checkpoint import checkpoint_config, load_checkpoint
 from softarm.model.device import torch_device
 from softarm.model.fits import check_fits, recording_shape
-from softarm.model.imaginer import Imaginer
 from softarm.record.reader import Recording, read_model, read_recording
 from softarm.sense.imperfections import SensorModel
 

@@ -16,8 +16,8 @@ from typing import Any, Optional
 
 import numpy as np
 
-from softarm.model.alarm import alarm_onsets, alarm_threshold, runs
-from softarm.suite.trust import auroc
+from softarm.trust.alarm import alarm_onsets, alarm_threshold, runs
+from softarm.trust.scoring import auroc
 
 PER_MINUTE = 1.0
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from softarm.model.prediction import Prediction
-from softarm.model.trust import ErrorHeadTrust
-from softarm.suite.trust import FRACTIONS, auroc, sparsification, trust_scores
+from softarm.trust.confidence import ErrorHeadTrust
+from softarm.trust.scoring import FRACTIONS, auroc, sparsification, trust_scores
 
 
 def test_auroc_counts_the_pairs_a_positive_wins():
@@ -48,7 +48,7 @@ def test_the_calibrated_reference_sees_what_its_spread_implies():
 def test_an_obstacle_is_labelled_by_the_frames_a_free_node_is_inside_it():
     """Two nodes, the first driven: the free one crosses a disc of radius 0.1 at the origin while |x| < 0.1; the
     recorded `touching` and, for an older recording, the positions give the same label, onsets and scores."""
-    from softarm.suite.surprise import case_surprise, surprise_report
+    from softarm.trust.detection import case_surprise, surprise_report
 
     t = np.arange(100) * 0.01
     positions = np.zeros((100, 2, 2))
@@ -75,7 +75,7 @@ def test_an_obstacle_is_labelled_by_the_frames_a_free_node_is_inside_it():
 
 
 def test_a_contact_recording_never_touched_is_disturbed_not_calm():
-    from softarm.suite.surprise import case_surprise
+    from softarm.trust.detection import case_surprise
 
     t, targets = np.arange(50) * 0.01, np.arange(50)
     obstacle = {"kind": "obstacle", "start": 0.0, "end": None, "centre": [9.0, 9.0], "radius": 0.1}
@@ -85,7 +85,7 @@ def test_a_contact_recording_never_touched_is_disturbed_not_calm():
 
 
 def test_false_alarms_are_counted_family_by_family_at_the_checkpoints_threshold():
-    from softarm.suite.surprise import case_surprise, surprise_report
+    from softarm.trust.detection import case_surprise, surprise_report
 
     t, targets = np.arange(600) * 0.01, np.arange(600)
     jumpy = np.ones(600)

@@ -21,9 +21,9 @@ from softarm.model.inputs import Inputs
 from softarm.model.latent import LatentModel
 from softarm.model.prediction import Prediction, joined_members
 from softarm.model.scaler import Scaler
-from softarm.model.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel
-from softarm.model.trust import ErrorHeadTrust, Trust
 from softarm.registry import latent_model_class, trust_class
+from softarm.trust.confidence import ErrorHeadTrust, Trust
+from softarm.trust.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel
 
 
 @dataclass

@@ -5,7 +5,7 @@ sample k + 1, a linear map from that state predicts the stretch of sample k + 1.
 the body (a motion the corpus never showed, a touch), this prediction errs, and so does the imagination drawn from
 the same state: its smoothed residual ranks the imagined frames by their error better than anything else the model
 knows without a camera. It is no alarm: the residual also grows with vigorous motion the memory does follow (the
-surprise, `softarm.model.surprise`, divides that out).
+surprise, `softarm.trust.surprise`, divides that out).
 """
 
 from dataclasses import dataclass

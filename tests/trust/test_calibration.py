@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from softarm.imagine.replay_data import compute_replay
+from softarm.imagine.trained import TrainedModel
 from softarm.model.baselines import ridge_predict
-from softarm.model.trained import TrainedModel
-from softarm.model.trust import CalibratedTrust
+from softarm.trust.confidence import CalibratedTrust
 
 pytestmark = pytest.mark.slow  # each test fits on a trained checkpoint: seconds
 

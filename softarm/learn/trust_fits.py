@@ -1,0 +1,63 @@
+"""The trust's fits fed from the training: what `softarm.trust` fits (the surprise's forward model and memory
+check, the calibrated confidence's map) gathered from the training's recordings and networks.
+
+The surprise: the training segments of every recording fit it, the held-out motion (the test segments,
+validation recordings whole) calibrates it. The calibrated confidence: on held-out frames, each recording
+imagined from its first sample as replay would, the frames' true IoU against what the model knows without a
+camera.
+"""
+
+from dataclasses import replace
+from typing import Any, Optional
+
+import numpy as np
+
+from softarm.learn.evaluate import evenly, imaginer_of
+from softarm.learn.train_state import TrainState
+from softarm.model.metrics import iou_per_frame
+from softarm.model.prediction import Prediction
+from softarm.trust.confidence import fit_calibrated
+from softarm.trust.surprise import LAGS, SurpriseModel
+from softarm.trust.surprise_fit import fit_memory_check, fit_surprise
+
+MAX_FRAMES = 20_000  # held-out frames the map is fitted on, evenly spread
+
+
+def fit_calibration(state: TrainState) -> dict[str, Any]:
+    """The calibrated confidence's map (`fit_calibrated`) on the held-out frames, the gap to the ridge baseline's
+    latent among its features (the baselines are fitted first)."""
+    imaginer, data = imaginer_of(state), state.data
+    parts, where = [], []
+    for n, (seq, prediction) in enumerate(zip(data.sequences, imaginer.predict_many([s.inputs for s in data.sequences]))):
+        start, end = seq.segment("test")
+        keep = (prediction.targets >= start) & (prediction.targets < end)
+        if seq.seen is not None:
+            keep &= seq.seen[prediction.targets]
+        parts.append(prediction.take(keep))
+        where.append(np.stack([np.full(int(keep.sum()), n), parts[-1].targets], axis=1))
+    picked = evenly(sum(len(w) for w in where), MAX_FRAMES)
+    held_out, where = Prediction.join(parts).take(picked), np.concatenate(where)[picked]
+    return fit_calibrated(held_out, iou_per_frame(imaginer.decode(held_out.latents), data.target_frames(where)))
+
+
+def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
+    """None when the model reads no sensor (nothing felt to be surprised by)."""
+    data, t = state.data, state.config.train
+    columns = np.cumsum([0, *data.widths])
+    felt = [c for ch, a, b in zip(data.channels, columns, columns[1:]) if ch.felt for c in range(a, b)]
+    command = [c for c in range(columns[-1]) if c not in felt]
+    if not felt:
+        return None
+    fitting, calibration = [], []
+    for seq in data.sequences:
+        read = state.inputs.normalise(seq.inputs).astype(np.float32)  # as the model reads them
+        states, inputs = state.latent.states(read), read.astype(np.float64)
+        calm = seq.calm if seq.calm is not None else np.ones(len(inputs), bool)
+        for segment, into in (("train", fitting), ("test", calibration)):
+            a, b = seq.segment(segment)
+            if b - a > LAGS + 1:
+                into.append((states[a:b], inputs[a:b], calm[a:b]))
+    calibration = calibration or fitting
+    model = fit_surprise([p[1:] for p in fitting], felt, command, [p[1:] for p in calibration],
+                         float(np.median(np.diff(data.sequences[0].times))), t.false_alarms_per_minute)
+    return replace(model, memory=fit_memory_check(fitting, felt, command, calibration))
