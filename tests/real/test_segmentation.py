@@ -133,6 +133,8 @@ def test_auto_masks_of_other_scenes_match_the_recordings_frames(recordings, tmp_
                    "--roi", "190,30,260,420", "--out", "imported.mcap", cwd=tmp_path)
     assert done.returncode == 0 and "auto chose" in done.stdout, done.stdout + done.stderr
     native, rec = read_recording(recordings / "s0.mcap"), read_recording(tmp_path / "imported.mcap")
+    found = rec.model["source"]["found"]
+    assert found["rule"].startswith("rgb=") and found["auto_rule"].endswith("otsu") and found["rule"] in done.stdout
     k = np.rint((rec.model["source"]["found"]["t0"] - 1_700_000_000.0 + rec.times) / native.frame_dt).astype(int)
     seen = rec.seen & (k < len(native.times))
     assert iou_per_frame(rec.frames[seen].astype(float), native.frames[k[seen]]).mean() > 0.95
