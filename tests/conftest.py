@@ -1,3 +1,10 @@
+import os
+
+if "PYTEST_XDIST_WORKER_COUNT" in os.environ:  # `pytest -n N`: the cores shared among the workers (and every command
+    # they start), before torch reads it; OpenMP threads of two trainings on two cores would oversubscribe them
+    _cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    os.environ.setdefault("OMP_NUM_THREADS", str(max(1, _cores // int(os.environ["PYTEST_XDIST_WORKER_COUNT"]))))
+
 import pytest
 
 from softarm.config import load_config
