@@ -76,7 +76,8 @@ def markdown(rows: list[dict]) -> str:
     """One table per section: the figure on the GPU, on the CPU, and their ratio where both were measured."""
     out = []
     for section in dict.fromkeys(r["section"] for r in rows):
-        out += [f"### {section}", "", "| measurement | GPU | CPU | GPU / CPU | unit | note |", "|---|---:|---:|---:|---|---|"]
+        out += [f"### {section}", "", "| measurement | GPU | CPU | GPU / CPU | unit | note |",
+                "|---|---:|---:|---:|---|---|"]
         for r in (r for r in rows if r["section"] == section):
             gpu, cpu = r.get("gpu"), r.get("cpu")
             ratio = f"{gpu / cpu:,.1f}x" if isinstance(gpu, float) and isinstance(cpu, float) and cpu else ""

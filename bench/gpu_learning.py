@@ -100,7 +100,8 @@ def pipeline_rows(cuda: bool, quick: bool, suite: bool = False) -> list[dict]:
          f"peak GPU {found['gpu_gb']:.1f} GB, host {found['host_gb']:.1f} GB; validation IoU {found['iou']:.3f}"),
         ("both", found["corpus_s"] + found["train_s"], "goal: 120 s (moonshot 60 s)"))]
     if "suite" in found:
-        rows.append({"section": "pipeline: corpus and training on defaults", "unit": "IoU", "gpu": found["suite"]["all"],
+        rows.append({"section": "pipeline: corpus and training on defaults", "unit": "IoU",
+                     "gpu": found["suite"]["all"],
                      "name": "the GPU-trained model on the suite, mean of all families",
                      "note": f"motion {found['suite']['motion']:.3f}, world {found['suite']['world']:.3f}; "
                              f"suite written and scored in {found['suite']['seconds']:.0f} s"})
@@ -126,7 +127,8 @@ def pipeline(folder: Path, quick: bool, suite: bool) -> dict:
     validation = (trained.metrics or {}).get("validation", {}).get("model", {})
     found = {"corpus_s": corpus_s, "train_s": train_s, "gpu_gb": torch.cuda.max_memory_allocated() / 1e9,
              "host_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e9,
-             "frames": sum(r["frames"] for r in trained.metrics["recordings"]), "iou": validation.get("iou", float("nan"))}
+             "frames": sum(r["frames"] for r in trained.metrics["recordings"]),
+             "iou": validation.get("iou", float("nan"))}
     if suite:
         from softarm.suite.build import write_suite
         from softarm.suite.evaluate import evaluate

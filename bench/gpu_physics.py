@@ -129,7 +129,8 @@ def recording_rows(cuda: bool, quick: bool) -> list[dict]:
         rows.append({"section": "recording: softarm sim, files written", "unit": "arm-s recorded per s",
                      "name": f"{arms:,} arms x {duration:g} s on the {arch.upper()}",
                      arch: arms * duration / seconds,
-                     "note": f"{seconds:.1f} s wall, {files} files, {size / 1e6:,.0f} MB, peak {peak / 1e9:.1f} GB host"})
+                     "note": f"{seconds:.1f} s wall, {files} files, {size / 1e6:,.0f} MB, "
+                             f"peak {peak / 1e9:.1f} GB host"})
     return rows
 
 

@@ -153,7 +153,8 @@ def batch_rows(config, quick: bool) -> list[dict]:
     softarm = str(Path(sys.executable).with_name("softarm"))
     rows = []
     for arms in ((64,) if quick else (64, 256)):
-        c_seconds = arms * round(duration / config.integration.frame_dt) * config.integration.substeps * springs / c_rate
+        c_seconds = (arms * round(duration / config.integration.frame_dt) * config.integration.substeps * springs
+                     / c_rate)
         rows.append(row(f"softarm sim --arms {arms} --duration {duration:g}, files written (start-up included)",
                         sim_seconds(softarm, arms, duration, 1 if quick else 2), c_seconds, "s",
                         "serial C physics time for the same arms and seconds (lower is better)"))
@@ -241,8 +242,8 @@ def main() -> None:
     args = ap.parse_args()
     init_taichi("cpu")
     config = load_config()
-    rows = (physics_rows(config, args.quick) + disturbance_rows(config, args.quick) + c_reference_rows(config, args.quick)
-            + raster_rows(config, args.quick) + encoder_rows(config, args.quick)
+    rows = (physics_rows(config, args.quick) + disturbance_rows(config, args.quick)
+            + c_reference_rows(config, args.quick) + raster_rows(config, args.quick) + encoder_rows(config, args.quick)
             + end_to_end_rows(args.quick) + batch_rows(config, args.quick))
     table = to_markdown(rows) + "\n\n" + stage_table(args.quick)
     print(f"machine: {machine()}\n\n{table}")

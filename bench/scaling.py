@@ -69,7 +69,8 @@ def main() -> None:
         lines.append(f"| {arms} | " + " | ".join(f"{table[a][arms]:.3g}" for a in archs) + " |")
     if {"cpu", "gpu"} <= set(table):
         over = next((n for n in args.arms if table["gpu"][n] > table["cpu"][n]), None)
-        lines.append(f"\nThe GPU overtakes the CPU at {over} arms." if over else "\nThe GPU never overtakes the CPU here.")
+        lines.append(f"\nThe GPU overtakes the CPU at {over} arms." if over
+                     else "\nThe GPU never overtakes the CPU here.")
     text = "\n".join(lines)
     print(text)
     RESULTS.mkdir(exist_ok=True)

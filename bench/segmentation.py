@@ -38,8 +38,8 @@ START = 1_700_000_000.0  # s: the robot log's clock at the recording's t = 0 (Ro
 
 
 def softarm(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", "from softarm_cli.main import main; main()", *args], capture_output=True,
-                          text=True)
+    return subprocess.run([sys.executable, "-c", "from softarm_cli.main import main; main()", *args],
+                          capture_output=True, text=True)
 
 
 def native_frames(native_path: Path, imported_path: Path) -> tuple[np.ndarray, np.ndarray, float]:

@@ -82,7 +82,8 @@ VARIANTS: dict[str, tuple[Callable[[], Callable[[], None]], Callable[[], Callabl
                            lambda: latent_step(False, False, fused=False)),
     "channels_last": (lambda: autoencoder_step(torch.channels_last, False, False), lambda: latent_step(False, False)),
     "bf16": (lambda: autoencoder_step(torch.contiguous_format, True, False), lambda: latent_step(True, False)),
-    "bf16 + channels_last": (lambda: autoencoder_step(torch.channels_last, True, False), lambda: latent_step(True, False)),
+    "bf16 + channels_last": (lambda: autoencoder_step(torch.channels_last, True, False),
+                             lambda: latent_step(True, False)),
     "compiled": (lambda: autoencoder_step(torch.contiguous_format, False, True), lambda: latent_step(False, True)),
 }
 

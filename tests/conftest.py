@@ -56,4 +56,5 @@ def tiny_tcn_checkpoint(recordings, tmp_path_factory):
     from softarm.learn.training import train
 
     folder = tmp_path_factory.mktemp("ckpt_tcn")
-    return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "tcn"}), folder / "tiny_tcn.pt")
+    return train([recordings / "s0.mcap"], load_config(overrides={**TINY, "train.model": "tcn"}),
+                 folder / "tiny_tcn.pt")

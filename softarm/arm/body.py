@@ -67,7 +67,8 @@ def build_body(config: Config) -> Body:
     for k, pair in enumerate(sensors):
         _check_nodes(pair, n, f"sensors.pairs[{k}]")
     if len(driven) == 0 or len(np.unique(driven)) == n:
-        raise ConfigError(f"config key 'body.driven' = {driven.tolist()} must name at least one node and leave one free")
+        raise ConfigError(f"config key 'body.driven' = {driven.tolist()} must name at least one node "
+                          f"and leave one free")
     if len(outline) < 3:
         raise ConfigError(f"config key 'camera.outline' = {outline.tolist()} needs at least 3 nodes")
 

@@ -47,7 +47,8 @@ def simulate_reference(body: Body, drive: Drive, positions: np.ndarray, velociti
             now = ((k * substeps + s) / substeps) * frame_dt
             active = [d for d in disturbances if d.active(now)]
             mass = body.masses + sum((d.extra_mass(len(x)) for d in active), np.zeros(len(x)))
-            stiffness = body.stiffness * np.prod([d.stiffness_factor(len(i)) for d in active] or [np.ones(len(i))], axis=0)
+            stiffness = body.stiffness * np.prod([d.stiffness_factor(len(i)) for d in active] or [np.ones(len(i))],
+                                                 axis=0)
             if muscles is not None:
                 activation = muscles.relax(activation, np.asarray(commands[k], np.float64), h)
                 rest_lengths = muscles.rest_lengths(body, activation)

@@ -27,6 +27,6 @@ from softarm.config.schema import (
 )
 
 __all__ = ["DEFAULT_CONFIG_TEXT", "BodyConfig", "CameraConfig", "Config", "ControlConfig", "DisturbanceConfig",
-           "ExcitationConfig", "IntegrationConfig", "MuscleGroupConfig", "MusclesConfig", "RandomDisturbanceConfig", "RunConfig",
-           "SensingConfig", "SensorsConfig", "SpringsConfig", "SumOfSinesConfig", "TrainConfig", "WorldConfig",
-           "config_from_dict", "load_config", "override"]
+           "ExcitationConfig", "IntegrationConfig", "MuscleGroupConfig", "MusclesConfig", "RandomDisturbanceConfig",
+           "RunConfig", "SensingConfig", "SensorsConfig", "SpringsConfig", "SumOfSinesConfig", "TrainConfig",
+           "WorldConfig", "config_from_dict", "load_config", "override"]

@@ -35,11 +35,13 @@ def check_ranges(c: Config) -> None:
     _check_pairs(c)
     s = c.excitation.sum_of_sines
     _require(len({len(s.amplitudes), len(s.frequencies), len(s.phases)}) == 1, "excitation.sum_of_sines.amplitudes",
-             list(s.amplitudes), "amplitudes, frequencies and phases must list one value per component (or all be empty)")
+             list(s.amplitudes),
+             "amplitudes, frequencies and phases must list one value per component (or all be empty)")
     i, r, t = c.integration, c.run, c.train
     _require(c.n_frames >= 1, "run.duration", r.duration, f"must cover at least one frame of {i.frame_dt} s")
     _require(r.seed <= MAX_SEED - (r.arms - 1), "run.seed", r.seed,
-             f"must be in 0..{MAX_SEED - (r.arms - 1)} (seeds are 32-bit; arm i of run.arms = {r.arms} uses run.seed + i)")
+             f"must be in 0..{MAX_SEED - (r.arms - 1)} "
+             f"(seeds are 32-bit; arm i of run.arms = {r.arms} uses run.seed + i)")
     k = c.control
     _require(k.hold < k.episode, "control.hold", k.hold, f"must be shorter than control.episode = {k.episode} s")
     _require(t.train_fraction + t.test_fraction < 1, "train.test_fraction", t.test_fraction,

@@ -3,7 +3,8 @@ documentation's config reference prints them, so the two cannot disagree.
 
 The meaning of each key lives in `default.toml`'s comments (what `softarm config` prints); the value in its
 assignment. Keys of the array tables (`[[disturbances]]`, `[[world.random]]`, `[[muscles.groups]]`) are named
-`table[].key`; their checks need the body and live with the body (`softarm.disturbances.resolve`, `softarm.arm.muscles`).
+`table[].key`; their checks need the body and live with the body (`softarm.disturbances.resolve`,
+`softarm.arm.muscles`).
 """
 
 from dataclasses import dataclass
@@ -82,7 +83,8 @@ KEYS: dict[str, Key] = {
     "disturbances[].springs": Key(meaning="stiffness: the spring indices of the model (docs/model.md, Body)."),
     "disturbances[].centre": Key("m", meaning="obstacle: [x, y] of the disc's centre."),
     "disturbances[].radius": Key("m", meaning="obstacle: the disc's radius."),
-    "disturbances[].stiffness": Key("N/m", meaning="obstacle: its contact stiffness (default: world.contact_stiffness)."),
+    "disturbances[].stiffness": Key("N/m",
+                                    meaning="obstacle: its contact stiffness (default: world.contact_stiffness)."),
     "disturbances[].damping": Key("N s/m", meaning="obstacle: its contact damping (default: world.contact_damping)."),
     "disturbances[].velocity": Key("m/s", meaning="drag: [ux, uy] of the water's current (default [0, 0]: still)."),
     "disturbances[].coefficient": Key("N s/m", meaning="drag: c of the linear (Stokes) drag on every free node."),

@@ -130,7 +130,8 @@ def _heading(table: str) -> str:
 
 def _array_table(hint: Any) -> Union[type, None]:
     args = typing.get_args(hint)
-    if typing.get_origin(hint) is tuple and len(args) == 2 and args[1] is Ellipsis and dataclasses.is_dataclass(args[0]):
+    if (typing.get_origin(hint) is tuple and len(args) == 2 and args[1] is Ellipsis
+            and dataclasses.is_dataclass(args[0])):
         return args[0]
     return None
 

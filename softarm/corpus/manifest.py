@@ -37,6 +37,6 @@ def _listed(manifest: Path) -> list[str]:
         raise RecordingError(f"{manifest} lists no recordings or a name that is not a file of its folder: {again}")
     missing = [n for n in names if not (manifest.parent / n).is_file()]
     if missing:
-        raise RecordingError(f"{manifest.parent} lacks {len(missing)} of its corpus's recordings (first: {missing[0]}): "
-                             f"{again}")
+        raise RecordingError(f"{manifest.parent} lacks {len(missing)} of its corpus's recordings "
+                             f"(first: {missing[0]}): {again}")
     return names

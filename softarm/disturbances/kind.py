@@ -50,7 +50,8 @@ class Disturbance:
         """What a [[world.random]] spec of this kind must hold beyond [min, max] ranges (none by default)."""
 
     @classmethod
-    def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float], places: Places) -> "Disturbance":
+    def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float],
+             places: Places) -> "Disturbance":
         """One of this kind drawn by a [[world.random]] spec, with its interval already drawn."""
         raise NotImplementedError
 

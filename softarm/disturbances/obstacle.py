@@ -39,7 +39,8 @@ class Obstacle(Disturbance):
         places.require(spec.radius[0] > 0, "radius", list(spec.radius), "radii must be > 0")
 
     @classmethod
-    def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float], places: Places) -> "Obstacle":
+    def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float],
+             places: Places) -> "Obstacle":
         """A disc beside a row, `gap` from the arm's resting edge there, on a random side: the swing meets it."""
         row, side = drawn_row(spec, rng), 1 if rng.random() < 0.5 else -1
         radius, gap = float(rng.uniform(*spec.radius)), float(rng.uniform(*spec.gap))

@@ -38,7 +38,8 @@ class Places:
         n = self.body.n_nodes
         self.require(indices is not None and len(indices) > 0, name, indices, "list at least one node")
         bad = [i for i in indices if not 0 <= i < n]
-        self.require(not bad, name, list(indices), f"names node {bad[0] if bad else ''}, but the body has nodes 0..{n - 1}")
+        self.require(not bad, name, list(indices),
+                     f"names node {bad[0] if bad else ''}, but the body has nodes 0..{n - 1}")
         return tuple(int(i) for i in indices)
 
     def springs(self, indices: Optional[Sequence[int]], name: str) -> tuple[int, ...]:
@@ -46,7 +47,8 @@ class Places:
         self.require(indices is not None and len(indices) > 0, name, indices, "list at least one spring")
         bad = [i for i in indices if not 0 <= i < s]
         self.require(not bad, name, list(indices),
-                     f"names spring {bad[0] if bad else ''}, but the body has springs 0..{s - 1} (the model's spring list)")
+                     f"names spring {bad[0] if bad else ''}, but the body has springs 0..{s - 1} "
+                     f"(the model's spring list)")
         return tuple(int(i) for i in indices)
 
     def row(self, row: int) -> tuple[int, ...]:

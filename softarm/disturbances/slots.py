@@ -121,7 +121,8 @@ def spring_factor(a: int, s: int, t: ti.f64, bits: int, world: ti.template()) ->
 
 
 @ti.func
-def free_node_force(a: int, t: ti.f64, x: ti.math.vec2, v: ti.math.vec2, bits: int, world: ti.template()) -> ti.math.vec2:
+def free_node_force(a: int, t: ti.f64, x: ti.math.vec2, v: ti.math.vec2, bits: int,
+                    world: ti.template()) -> ti.math.vec2:
     """The sum of every active state-dependent force on a free node at x moving at v (contact, drag)."""
     f = ti.Vector([0.0, 0.0], ti.f64)
     if bits & FIELD_BITS:

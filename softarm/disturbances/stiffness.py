@@ -31,7 +31,8 @@ class Stiffness(Disturbance):
         places.segment(spec.rows[1], spec.span or 2)
 
     @classmethod
-    def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float], places: Places) -> "Stiffness":
+    def draw(cls, spec: Any, rng: np.random.Generator, start: float, end: Optional[float],
+             places: Places) -> "Stiffness":
         """Every spring of a segment `span` rows long, from a random row."""
         first = drawn_row(spec, rng)
         return cls(start, end, float(rng.uniform(*spec.factor)), places.segment(first, spec.span or 2))

@@ -22,7 +22,8 @@ PRIVILEGED = "ridge_nodes"
 
 
 def score_answers(imaginer: Imaginer, baselines: Baselines, truth: np.ndarray, answer: np.ndarray,
-                  windows: np.ndarray, true_latents: np.ndarray, pixels_per_metre: float) -> dict[str, dict[str, np.ndarray]]:
+                  windows: np.ndarray, true_latents: np.ndarray,
+                  pixels_per_metre: float) -> dict[str, dict[str, np.ndarray]]:
     """Per-frame scores (`metrics.frame_scores`) of each answer for the frames `truth` (M, H, W): the model's
     pixel probabilities `answer` (M, H, W; decoded by the caller, who may need them again), the ridge map of the
     normalised input `windows` (M, history, F), the mean frame and the decoded `true_latents` (M, K, normalised)."""

@@ -56,14 +56,16 @@ class Imaginer:
         networks = {"autoencoder": lambda: Autoencoder(*state["image_shape"], t.latent),
                     "latent_model": lambda: latent_model_class(t.model)(inputs.features, latent_scaler.kept, t, nodes)}
         autoencoder, latent = (loaded(make, state[key]).to(device) for key, make in networks.items())
-        members = tuple(loaded(networks["latent_model"], weights).to(device).eval() for weights in state.get("members", []))
+        members = tuple(loaded(networks["latent_model"], weights).to(device).eval()
+                        for weights in state.get("members", []))
         autoencoder.eval()
         latent.eval()
         autoencoder.to(memory_format=torch.channels_last)  # faster convolutions when decoding
         surprise = surprise_of(state, inputs.features, t.lstm_hidden)
         trust = trust_class(t.confidence).build(state.get("calibration"))
         if trust is None:
-            raise CheckpointError(f"the checkpoint's confidence ({t.confidence}) was not fitted: finish it with --resume")
+            raise CheckpointError(f"the checkpoint's confidence ({t.confidence}) was not fitted: "
+                                  f"finish it with --resume")
         return cls(autoencoder, latent, latent_scaler, inputs, members, surprise, trust, ridge_of(state))
 
     def normalised(self, raw: np.ndarray) -> np.ndarray:
@@ -103,7 +105,8 @@ class Imaginer:
         if self.surprise is None or variance <= 0.0:
             return self
         felt = list(self.surprise.felt)
-        stretch = np.concatenate([np.full(w, c.name == "stretch") for c, w in zip(self.inputs.channels, self.inputs.widths)])
+        stretch = np.concatenate([np.full(w, c.name == "stretch")
+                                  for c, w in zip(self.inputs.channels, self.inputs.widths)])
         added = np.where(stretch[felt], variance / self.inputs.spread[felt] ** 2, 0.0)  # other kinds: not in m
         return replace(self, surprise=self.surprise.heard_through(added))
 

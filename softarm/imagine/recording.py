@@ -3,9 +3,9 @@
 `/imagination/image`: foxglove.RawImage, mono8, pixel probability x 255; `/imagination/iou`: JSON
 (jsonschema) with the frame's IoU against the camera; `/imagination/confidence`: JSON with the model's
 own trust in the frame, which a robot would have without a camera; `/imagination/surprise` and `/imagination/alarm`:
-JSON with what the frame's sample felt beyond the command's prediction, and whether it raised the alarm. Log times equal the source frames' times, so
-both files line up on one timeline; metadata `softarm.imagination` names the checkpoint and the
-source recording (with their SHA-256 fingerprints).
+JSON with what the frame's sample felt beyond the command's prediction, and whether it raised the alarm. Log times
+equal the source frames' times, so both files line up on one timeline; metadata `softarm.imagination` names the
+checkpoint and the source recording (with their SHA-256 fingerprints).
 """
 
 from pathlib import Path

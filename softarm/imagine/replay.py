@@ -57,8 +57,8 @@ def replay(checkpoint: PathLike, recording: PathLike, blind: Sequence[str] = (),
     from softarm.imagine.replay_data import compute_replay  # torch loads here, not when softarm is imported
 
     with made_folders(outputs), claimed(outputs):
-        result = compute_replay(checkpoint, recording, ranges, nodes=rrd is not None or spawn, sensor_noise=sensor_noise,
-                                device=device)
+        result = compute_replay(checkpoint, recording, ranges, nodes=rrd is not None or spawn,
+                                sensor_noise=sensor_noise, device=device)
         write_outputs(result, rrd, mcap, png, spawn, span)
     return ReplayOutcome(result, time.perf_counter() - start)
 

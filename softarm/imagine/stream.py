@@ -59,9 +59,10 @@ class StreamingImaginer:
         imaginer = self.imaginer
         raw = np.asarray(sample if sample is not None else self.assemble(channels), np.float64)
         if raw.shape != (imaginer.inputs.features,):
-            raise ValueError(f"a sample holds {imaginer.inputs.features} readings "
-                             f"({', '.join(f'{c.name}: {w}' for c, w in zip(imaginer.inputs.channels, imaginer.inputs.widths))}), "
-                             f"got shape {raw.shape}")
+            raise ValueError(
+                f"a sample holds {imaginer.inputs.features} readings "
+                f"({', '.join(f'{c.name}: {w}' for c, w in zip(imaginer.inputs.channels, imaginer.inputs.widths))}), "
+                f"got shape {raw.shape}")
         if not np.isfinite(raw).all():
             bad = int(np.flatnonzero(~np.isfinite(raw))[0])
             raise ValueError(f"reading {bad} of the sample is {raw[bad]}: readings must be finite (this sample was not "
@@ -78,7 +79,8 @@ class StreamingImaginer:
         if answers[0] is None:
             return None
         target = np.array([self.samples - 1 + imaginer.latent.lead])
-        prediction = joined_members([Prediction(target, latent[None], log_error[None]) for latent, log_error in answers])
+        prediction = joined_members([Prediction(target, latent[None], log_error[None])
+                                     for latent, log_error in answers])
         if imaginer.ridge is not None:
             prediction = prediction.with_ridge_gap(imaginer.ridge_latents(self._window[None]))
         if imaginer.surprise is not None:  # the calibrated confidence reads both, as in a batch replay

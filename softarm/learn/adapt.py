@@ -64,8 +64,8 @@ def _adapt(model: Any, recording: PathLike, seconds: float, out: Path, start: Op
         raise RecordingError(f"{rec.path}: {seconds:g} s of camera from {rec.times[begin]:.2f} s reach past its end "
                              f"({rec.times[-1]:.2f} s); give fewer --seconds or an earlier --from")
     clock = time.perf_counter()
-    adapted = adapt_models(imaginer, Window(begin, end, imaginer.normalised(reading.inputs).astype(np.float64), rec.frames),
-                           stop)
+    adapted = adapt_models(imaginer,
+                           Window(begin, end, imaginer.normalised(reading.inputs).astype(np.float64), rec.frames), stop)
     took = time.perf_counter() - clock
     after = adapted.predict(reading.inputs)
     rest = (before.targets >= end) & rec.seen[before.targets]
@@ -89,7 +89,8 @@ def _adapt(model: Any, recording: PathLike, seconds: float, out: Path, start: Op
     return AdaptResult(Path(out), metrics)
 
 
-def camera_start(model: dict[str, Any], times: np.ndarray, prediction: Any, imaginer: Any, start: Optional[float]) -> int:
+def camera_start(model: dict[str, Any], times: np.ndarray, prediction: Any, imaginer: Any,
+                 start: Optional[float]) -> int:
     """The frame the camera turns on at: `start`, else the first lasting disturbance, else the first alarm."""
     if start is None:
         lasting = [float(d["start"]) for d in model.get("disturbances", []) if d.get("end") is None]

@@ -3,8 +3,8 @@
 The seconds per step of each network (`step_times`, the run itself unchanged by being measured); both
 schedules then shrink by one factor so that their steps, the encoding of every frame and the scoring fit what
 is left of the budget. The result is written into the config as `train.max_steps_*`, so the checkpoint
-records it and `--resume` continues the same schedule. Step times differ between machines: a budgeted run is not reproducible
-elsewhere, an unbudgeted one is.
+records it and `--resume` continues the same schedule. Step times differ between machines: a budgeted run is not
+reproducible elsewhere, an unbudgeted one is.
 """
 
 import math

@@ -101,7 +101,8 @@ class Dataset:
 
     def window_count(self, segment: str, history: int, lead: int) -> int:
         """The input windows `windows` gives for a segment, all recordings."""
-        return sum(window_count(end - start, history, lead) for start, end in (s.segment(segment) for s in self.sequences))
+        return sum(window_count(end - start, history, lead)
+                   for start, end in (s.segment(segment) for s in self.sequences))
 
     def target_frames(self, targets: np.ndarray) -> np.ndarray:
         return np.stack([self.sequences[n].frames[k] for n, k in targets])

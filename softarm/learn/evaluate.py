@@ -108,4 +108,5 @@ def scored_answers(state: TrainState, baselines: Baselines, imaginer: Imaginer, 
     true_latent = imaginer.latent_scaler.forward(state.codes().of(targets))
     scores = score_answers(imaginer, baselines, data.target_frames(targets), imaginer.decode(predicted),
                            state.inputs.normalise(windows), true_latent, data.pixels_per_metre)
-    return {name: summarise(per_frame) for name, per_frame in scores.items()}, float(np.mean((predicted - true_latent) ** 2))
+    return ({name: summarise(per_frame) for name, per_frame in scores.items()},
+            float(np.mean((predicted - true_latent) ** 2)))

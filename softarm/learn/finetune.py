@@ -52,7 +52,8 @@ def adapt_models(imaginer: Imaginer, window: Window, stop: Callable[[], bool] = 
     read = window.inputs[:window.end].astype(np.float32)
     device = imaginer.latent.device  # the fine-tuning runs where the networks are
     models = [fine_tuned(model, tensor_on(read, device), tensor_on(frames - lead, device),
-                         tensor_on(codes.astype(np.float32), device), stop) for model in (imaginer.latent, *imaginer.members)]
+                         tensor_on(codes.astype(np.float32), device), stop)
+              for model in (imaginer.latent, *imaginer.members)]
     surprise = imaginer.surprise
     if surprise is not None:
         surprise = adapted_surprise(surprise, models[0].states(read), read.astype(np.float64), window.start, SHRINK)

@@ -11,7 +11,8 @@ from typing import Callable, Iterator, Optional, Protocol, Union
 import numpy as np
 
 Progress = Callable[[int, int, dict[str, float]], None]  # (optimisation steps done, steps in all, latest losses)
-StageProgress = Callable[[str, int, int], None]  # ("reading" recordings or "fitting" the fits after training, done, in all)
+StageProgress = Callable[[str, int, int], None]  # ("reading" recordings or "fitting" the fits after training,
+# done, in all)
 
 
 class TrainingObserver(Protocol):

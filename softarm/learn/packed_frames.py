@@ -3,8 +3,8 @@
 Frames are binary (0/1), and a training reads them many times: the autoencoder's batches, the codes, the scores.
 Packed along each row (`np.packbits`), a corpus of 384 000 frames of 84 x 52 takes 210 MB instead of 1.7 GB, so
 it stays in memory: no copy goes to disk on the way (the memory-mapped cache of earlier releases wrote 3.4 GB a
-corpus training, 10-22 s of a refit in two profiles), and resident memory grows by 546 bytes a frame. Indexing unpacks only the
-frames it returns, as uint8 0/1 arrays equal to indexing the unpacked frames.
+corpus training, 10-22 s of a refit in two profiles), and resident memory grows by 546 bytes a frame. Indexing
+unpacks only the frames it returns, as uint8 0/1 arrays equal to indexing the unpacked frames.
 """
 
 from typing import Any, Sequence

@@ -72,7 +72,8 @@ class TrainState:
         """Drop latent features constant over the training frames; normalise latents and every input channel
         with training statistics."""
         data = self.data
-        self.latent_scaler = Scaler.fit(self.codes().segment(data, "train")[data.seen_frames("train")], self.config.train.min_feature_std)
+        self.latent_scaler = Scaler.fit(self.codes().segment(data, "train")[data.seen_frames("train")],
+                                        self.config.train.min_feature_std)
         training = np.concatenate([s.inputs[slice(*s.segment("train"))] for s in data.sequences])
         self.inputs = Inputs.fit(data.channels, data.widths, training)
 
@@ -111,7 +112,8 @@ class TrainState:
         """Every recording's normalised inputs and targets (the latent, then the node positions where the model
         has a node head), as the latent model trains on them."""
         codes, data = self.codes(), self.data
-        targets = [self.latent_scaler.forward(codes.recording(n)).astype(np.float32) for n in range(len(data.sequences))]
+        targets = [self.latent_scaler.forward(codes.recording(n)).astype(np.float32)
+                   for n in range(len(data.sequences))]
         if self.latent.nodes is not None:
             targets = [np.concatenate([t, nodes], axis=1) for t, nodes in zip(targets, node_targets(data))]
         return [TrainingSeries(self.inputs.normalise(seq.inputs).astype(np.float32), target, seq.segment("train")[1],
@@ -161,7 +163,8 @@ class TrainState:
             if self.phase == "ae":
                 self.ae_optimizer.load_state_dict(saved["optimizer"])
                 return
-            self.latent_scaler, self.inputs = Scaler.from_state(saved["latent_scaler"]), Inputs.from_state(saved["inputs"])
+            self.latent_scaler, self.inputs = (Scaler.from_state(saved["latent_scaler"]),
+                                               Inputs.from_state(saved["inputs"]))
             self.make_latent()
             self.latent.load_state_dict(saved["latent_model"])
             self.members = list(saved.get("members", []))

@@ -68,11 +68,13 @@ def check_train_outputs(checkpoint: Path, rrd: Optional[PathLike], resume: bool,
     resume, outputs that are one file or an input, folders that cannot be written."""
     checkpoint = Path(checkpoint)
     if checkpoint.is_dir():
-        raise OutputError(f"--out {checkpoint} is a folder; give a checkpoint file name, e.g. {checkpoint / 'model.pt'}")
+        raise OutputError(f"--out {checkpoint} is a folder; give a checkpoint file name, "
+                          f"e.g. {checkpoint / 'model.pt'}")
     if resume and not checkpoint.exists():
         raise CheckpointError(f"--resume: there is no checkpoint {checkpoint} to continue")
     if checkpoint.exists() and not (resume or force):
-        raise OutputError(f"checkpoint {checkpoint} already exists; pass --resume to continue it or --force to replace it")
+        raise OutputError(f"checkpoint {checkpoint} already exists; "
+                          f"pass --resume to continue it or --force to replace it")
     check_outputs(train_outputs(checkpoint, rrd), force=True, inputs=inputs)
     if rrd is not None and Path(rrd).exists() and not force:
         raise OutputError(f"output {rrd} already exists; pass --force to overwrite it")

@@ -28,7 +28,8 @@ def fit_calibration(state: TrainState) -> dict[str, Any]:
     latent among its features (the baselines are fitted first)."""
     imaginer, data = imaginer_of(state), state.data
     parts, where = [], []
-    for n, (seq, prediction) in enumerate(zip(data.sequences, imaginer.predict_many([s.inputs for s in data.sequences]))):
+    for n, (seq, prediction) in enumerate(zip(data.sequences,
+                                              imaginer.predict_many([s.inputs for s in data.sequences]))):
         start, end = seq.segment("test")
         keep = (prediction.targets >= start) & (prediction.targets < end)
         if seq.seen is not None:

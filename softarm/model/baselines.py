@@ -23,8 +23,8 @@ class Baselines:
 
     def to_state(self) -> dict[str, torch.Tensor]:
         weights, bias = self.ridge
-        state = {"mean_frame": torch.from_numpy(self.mean_frame.copy()), "ridge_weights": torch.from_numpy(weights.copy()),
-                 "ridge_bias": torch.from_numpy(bias.copy())}
+        state = {"mean_frame": torch.from_numpy(self.mean_frame.copy()),
+                 "ridge_weights": torch.from_numpy(weights.copy()), "ridge_bias": torch.from_numpy(bias.copy())}
         if self.nodes is not None:
             state["node_weights"], state["node_bias"] = (torch.from_numpy(a.copy()) for a in self.nodes)
         return state

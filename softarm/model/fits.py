@@ -12,7 +12,8 @@ from softarm.errors import RecordingError
 from softarm.model.inputs import InputChannel
 
 
-def recording_shape(model: dict[str, Any], chosen: Sequence[InputChannel], config: Config) -> tuple[tuple[int, int], list[int]]:
+def recording_shape(model: dict[str, Any], chosen: Sequence[InputChannel],
+                    config: Config) -> tuple[tuple[int, int], list[int]]:
     """The image size and each channel's features of a recording, from its model document."""
     return (model["camera"]["height"], model["camera"]["width"]), [c.features(model, config) for c in chosen]
 

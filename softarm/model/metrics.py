@@ -42,7 +42,8 @@ def tip_pixels(frames: np.ndarray) -> np.ndarray:
     return out
 
 
-def frame_scores(prob: np.ndarray, truth: np.ndarray, pixels_per_metre: float, chunk: int = 1024) -> dict[str, np.ndarray]:
+def frame_scores(prob: np.ndarray, truth: np.ndarray, pixels_per_metre: float,
+                 chunk: int = 1024) -> dict[str, np.ndarray]:
     """Per-frame BCE, IoU, Dice and tip error (mm, NaN where a frame is empty), computed chunk by chunk.
 
     Summaries over any subset of frames (blind, seeing, last 5 s) then cost nothing: see `summarise`.

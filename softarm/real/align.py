@@ -30,7 +30,8 @@ def dropped_frames(stamps: np.ndarray) -> int:
 
 def rate(stamps: np.ndarray) -> float:
     """Messages per second over the span of the stamps (NaN for fewer than two)."""
-    return (len(stamps) - 1) / float(stamps[-1] - stamps[0]) if len(stamps) > 1 and stamps[-1] > stamps[0] else float("nan")
+    return ((len(stamps) - 1) / float(stamps[-1] - stamps[0]) if len(stamps) > 1 and stamps[-1] > stamps[0]
+            else float("nan"))
 
 
 @dataclass(frozen=True)

@@ -142,7 +142,8 @@ def check_camera(log: LogFile, settings: ImportSettings) -> None:
         raise RecordingError(f"--camera: {settings.camera} holds {topic.encoding}-encoded images; softarm reads "
                              "images as ROS 2 (cdr), ROS 1 or protobuf messages")
     if topic.messages < 2:
-        raise RecordingError(f"--camera: {settings.camera} holds {topic.messages} image(s); a recording needs two or more")
+        raise RecordingError(f"--camera: {settings.camera} holds {topic.messages} image(s); "
+                             f"a recording needs two or more")
 
 
 def frame_scale(masks: Masks, settings: ImportSettings) -> Optional[float]:
@@ -194,9 +195,11 @@ def check_grid(seconds: float, dt: float, frame_bytes: int) -> None:
                           f"the memory holds (at most {most:,}): give a longer --frame-dt")
 
 
-def _grid(masks: Masks, sensors: Series, drive: Optional[Series], lag: float, dt: float) -> tuple[Grid, tuple[float, float]]:
+def _grid(masks: Masks, sensors: Series, drive: Optional[Series], lag: float,
+          dt: float) -> tuple[Grid, tuple[float, float]]:
     """The frame grid over the time every signal covers (the sensors' and drive's stamps less the lag)."""
-    spans = [(masks.stamps[0], masks.stamps[-1], "camera"), (sensors.stamps[0] - lag, sensors.stamps[-1] - lag, "sensors")]
+    spans = [(masks.stamps[0], masks.stamps[-1], "camera"),
+             (sensors.stamps[0] - lag, sensors.stamps[-1] - lag, "sensors")]
     if drive is not None:
         spans.append((drive.stamps[0] - lag, drive.stamps[-1] - lag, "drive"))
     start, end = max(s[0] for s in spans), min(s[1] for s in spans)

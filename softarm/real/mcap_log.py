@@ -85,7 +85,8 @@ class McapLog(LogFile):
                                          ) from None
             return decode
         raise RecordingError(f"{self.path}: no decoder reads {topic} (message encoding {encoding!r}, schema "
-                             f"{getattr(schema, 'name', None)!r}); softarm reads ROS 2 (cdr), protobuf and json messages")
+                             f"{getattr(schema, 'name', None)!r}); "
+                             f"softarm reads ROS 2 (cdr), protobuf and json messages")
 
     def seconds(self) -> float:
         """The time the log spans, from its summary's statistics (0 where it has none)."""

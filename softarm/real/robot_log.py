@@ -103,7 +103,8 @@ def _streams(rec: Recording, settings: RobotLogSettings, rng: np.random.Generato
                                                          float(rec.times[shown[j]]) / span))
               for j in kept)
     stretches = ((int(stretch_log[k]), "/arm/stretch",
-                  {"header": ros_header(int(stretch_ns[k]), "arm"), "data": stretch[k].tolist()} if settings.sensor_header
+                  {"header": ros_header(int(stretch_ns[k]), "arm"), "data": stretch[k].tolist()}
+                  if settings.sensor_header
                   else {"layout": {"dim": [], "data_offset": 0}, "data": stretch[k].tolist()})
                  for k in range(len(true_ns)))
     drives = ((int(true_ns[k]) + 1_000_000, "/arm/command",

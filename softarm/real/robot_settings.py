@@ -12,7 +12,8 @@ class RobotLogSettings:
     width: int = 640
     height: int = 480
     camera_hz: float = 30.0
-    image_format: str = "jpeg"      # "jpeg" or "png" -> sensor_msgs/msg/CompressedImage; "rgb8" -> sensor_msgs/msg/Image
+    image_format: str = "jpeg"      # "jpeg" or "png" -> sensor_msgs/msg/CompressedImage;
+                                    # "rgb8" -> sensor_msgs/msg/Image
     jpeg_quality: int = 85
     sensor_offset: float = 0.047    # s: the sensor/drive clock runs this far ahead of the camera's
     sensor_jitter: float = 0.002    # s: std of the stretch header stamps' jitter (clipped at 3 std)

@@ -20,7 +20,8 @@ class ImportSettings:
     roi: Optional[tuple[int, int, int, int]] = None  # x, y, width, height in the camera's own pixels
     width: int = field(default_factory=lambda: load_config().camera.width)   # the camera size the models use
     height: int = field(default_factory=lambda: load_config().camera.height)
-    frame_dt: Optional[float] = field(default_factory=lambda: load_config().integration.frame_dt)  # s; None: the camera's period
+    frame_dt: Optional[float] = field(
+        default_factory=lambda: load_config().integration.frame_dt)  # s; None: the camera's period
     lag: Optional[float] = None      # s the sensors' stamps run ahead of the camera's; None: estimated
     max_lag: float = 0.25            # s: the lag is searched in [-max_lag, max_lag]
     scale: Optional[float] = None    # px/m: the camera's own pixels per metre in the arm's plane
@@ -37,7 +38,8 @@ class ImportSettings:
             raise ConfigError(f"--max-lag {self.max_lag}: give a search range in seconds, above 0 and at most 60")
         for option, value in (("--scale", self.scale), ("--arm-length", self.arm_length)):
             if value is not None and not (math.isfinite(value) and value > 0):
-                raise ConfigError(f"{option} {value}: give a positive number ({'px/m' if option == '--scale' else 'm'})")
+                raise ConfigError(f"{option} {value}: "
+                                  f"give a positive number ({'px/m' if option == '--scale' else 'm'})")
         if self.scale is not None and self.arm_length is not None:
             raise ConfigError("--scale and --arm-length both give the camera's scale: give one")
         if not (0 < self.width <= 4096 and 0 < self.height <= 4096):

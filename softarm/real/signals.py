@@ -55,7 +55,8 @@ class SeriesReader:
         """Every message's values, sorted by stamp, duplicate stamps dropped; one line for what cannot be used."""
         where = self.where
         if len(self.values) < 2:
-            raise RecordingError(f"{where}: the log holds {len(self.values)} message(s) on it; a series needs two or more")
+            raise RecordingError(f"{where}: the log holds {len(self.values)} message(s) on it; "
+                                 f"a series needs two or more")
         widths = {np.size(v) for v in self.values}
         if len(widths) != 1:
             raise RecordingError(f"{where}: its messages hold {sorted(widths)} values; every message needs as many")

@@ -13,8 +13,8 @@ from softarm.record.format import EXCITATION, FORMAT, IMAGE, IMPORTED, JSON_SCHE
 from softarm.record.mcap_file import McapFile
 
 
-def write_imported(path: Path, times: np.ndarray, frame_dt: float, frames: np.ndarray, seen: np.ndarray, stretch: np.ndarray,
-                   drive: Optional[np.ndarray], sensors: list[str], settings: ImportSettings,
+def write_imported(path: Path, times: np.ndarray, frame_dt: float, frames: np.ndarray, seen: np.ndarray,
+                   stretch: np.ndarray, drive: Optional[np.ndarray], sensors: list[str], settings: ImportSettings,
                    source: dict[str, Any]) -> Path:
     """One file, `.part` until closed; nothing is left behind if writing fails."""
     topics = {STRETCH: JSON_SCHEMAS[STRETCH], **({EXCITATION: JSON_SCHEMAS[EXCITATION]} if drive is not None else {})}

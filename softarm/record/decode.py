@@ -16,8 +16,8 @@ except ImportError:  # installed without a C compiler: orjson reads the same val
     native = None
 
 
-def signal_values(messages: dict[int, bytes], stamps: list[int], keys: tuple[str, ...], shape: tuple[int, ...], topic: str,
-                  path: Path) -> np.ndarray:
+def signal_values(messages: dict[int, bytes], stamps: list[int], keys: tuple[str, ...], shape: tuple[int, ...],
+                  topic: str, path: Path) -> np.ndarray:
     """(T, *shape) float64: the field `keys[0]` of every frame's JSON message, decoded in one call (one array
     document: much cheaper than one call each); a message that does not decode to it is refused."""
     try:

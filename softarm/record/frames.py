@@ -25,7 +25,8 @@ FRAME_TOPICS = (IMAGE, STRETCH, NODES, EXCITATION, DISTURBANCE)  # a frame's mes
 
 def encode_frames(stamps: np.ndarray, channels: tuple[int, ...], image: RawImageEncoder, images: np.ndarray,
                   stretch: np.ndarray, positions: np.ndarray, displacement: np.ndarray,
-                  active: list[list[int]], touching: Optional[list[list[int]]] = None) -> Optional[tuple[bytes, np.ndarray]]:
+                  active: list[list[int]],
+                  touching: Optional[list[list[int]]] = None) -> Optional[tuple[bytes, np.ndarray]]:
     """The records of n frames (channels in FRAME_TOPICS order) and their datas' sizes (n, 5), or None
     where the C encoder is missing or a value lies outside what it writes exactly (|x| >= 1e6, not finite).
     `touching` (the obstacles touched at each frame) goes into /arm/disturbance where given."""

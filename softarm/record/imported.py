@@ -39,7 +39,9 @@ def imported_recording(path: Path, model: dict[str, Any], run: Optional[dict[str
     if drive:
         displacement = signal_values(drive, stamps, ("displacement",), (), EXCITATION, path)
     if truncated:
-        warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning, stacklevel=3)
+        warnings.warn(f"{path} is truncated: recovered {len(stamps)} complete frames", TruncatedRecordingWarning,
+                      stacklevel=3)
     return Recording(path=path, model=model, times=np.array(stamps, np.int64) / 1e9, frames=frames, stretch=stretch,
-                     displacement=displacement, positions=None, complete=run is not None and run.get("complete") == "true"
-                     and not truncated, truncated=truncated, active=np.zeros((len(stamps), 0), bool), seen=seen)
+                     displacement=displacement, positions=None,
+                     complete=run is not None and run.get("complete") == "true" and not truncated, truncated=truncated,
+                     active=np.zeros((len(stamps), 0), bool), seen=seen)

@@ -104,7 +104,8 @@ def _topics(nodes: bool, model: Optional[dict[str, Any]] = None) -> tuple[str, .
     return (*topics, ACTIVATION) if model is not None and "muscles" in model else topics
 
 
-def _scan(path: Path, nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, str]], dict[str, dict[int, bytes]], bool]:
+def _scan(path: Path,
+          nodes: bool) -> tuple[dict[str, Any], Optional[dict[str, str]], dict[str, dict[int, bytes]], bool]:
     wanted = (*_topics(nodes), DISTURBANCE, ACTIVATION, *(kind.topic for kind in KINDS.values()))
     model = run = None
     channels: dict[int, str] = {}

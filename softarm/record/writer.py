@@ -107,7 +107,8 @@ class RecordingWriter:
                muscles: Optional[tuple[np.ndarray, np.ndarray]]) -> None:
         n = len(images)
         stamps = np.round(np.arange(self.frames, self.frames + n) * self.frame_dt * 1e9).astype(np.int64)
-        stretch, positions, displacement = (np.ascontiguousarray(a, np.float64) for a in (stretch, positions, displacement))
+        stretch, positions, displacement = (np.ascontiguousarray(a, np.float64)
+                                            for a in (stretch, positions, displacement))
         active = self._active(n)
         touching = self._touching(positions, active) if self._obstacles else None
         encoded = None if muscles is not None or self._sensors else encode_frames(
@@ -155,7 +156,8 @@ class RecordingWriter:
     def _touching(self, positions: np.ndarray, active: list[list[int]]) -> list[list[int]]:
         """The active obstacles that some free node is inside at each frame of the block (|x - centre| < radius,
         from the simulated positions): the label of contact."""
-        inside = {i: [bool(k) for k in (np.sqrt(((positions[:, self._free] - centre) ** 2).sum(axis=2)) < radius).any(axis=1)]
+        inside = {i: [bool(k) for k in (np.sqrt(((positions[:, self._free] - centre) ** 2).sum(axis=2))
+                                        < radius).any(axis=1)]
                   for i, centre, radius in self._obstacles}
         return [[i for i in row if i in inside and inside[i][k]] for k, row in enumerate(active)]
 

@@ -43,7 +43,8 @@ class Bend(SensorKind):
         return triples
 
     def ideal(self, positions: np.ndarray, rest: np.ndarray, placements: np.ndarray) -> np.ndarray:
-        turned = turning(np.asarray(positions, np.float64), placements) - turning(np.asarray(rest, np.float64), placements)
+        turned = (turning(np.asarray(positions, np.float64), placements)
+                  - turning(np.asarray(rest, np.float64), placements))
         wrapped = np.remainder(turned + np.pi, 2 * np.pi) - np.pi  # a turn past the straight-back angle, back in range
         return np.where(np.abs(turned) > np.pi, wrapped, turned)
 

@@ -64,11 +64,12 @@ def footprint(config: Config) -> Footprint:
     json_bytes = nodes * 2 * 14 + sensors * 22 + 80
     # positions (kernel array and the block handed on), image and row spans, the shared slots, and a writer's
     # copies of a block (the 0/255 image, the encoded messages, the joined chunk)
-    frame_bytes = (nodes * 2 * 8 * 2 + pixels + config.camera.height * 8) + SLOTS * (pixels + nodes * 16 + sensors * 8 + 8) \
-        + 3 * (pixels + json_bytes)
-    disk = config.run.arms * (FILE_BYTES + config.n_frames * (PIXEL_BYTES_ON_DISK * pixels + JSON_BYTES_ON_DISK * json_bytes))
-    return Footprint(frames=config.n_frames, frame_bytes=frame_bytes, arm_bytes=nodes * 2 * 8 * 3 + WRITER_BYTES_PER_ARM,
-                     disk_bytes=int(disk))
+    frame_bytes = (nodes * 2 * 8 * 2 + pixels + config.camera.height * 8) \
+        + SLOTS * (pixels + nodes * 16 + sensors * 8 + 8) + 3 * (pixels + json_bytes)
+    disk = config.run.arms * (FILE_BYTES
+                              + config.n_frames * (PIXEL_BYTES_ON_DISK * pixels + JSON_BYTES_ON_DISK * json_bytes))
+    return Footprint(frames=config.n_frames, frame_bytes=frame_bytes,
+                     arm_bytes=nodes * 2 * 8 * 3 + WRITER_BYTES_PER_ARM, disk_bytes=int(disk))
 
 
 def check_resources(config: Config, out_folder: Path) -> None:
@@ -84,8 +85,9 @@ def check_resources(config: Config, out_folder: Path) -> None:
     if need.memory(1, 1) > available:
         pixels = config.camera.width * config.camera.height
         fit = available / need.memory(1, 1) * pixels
-        raise ConfigError(f"a {config.camera.width} x {config.camera.height} camera needs {gigabytes(need.memory(1, 1))} "
-                          f"of memory for one frame of one arm, {gigabytes(available)} are available: make "
+        raise ConfigError(f"a {config.camera.width} x {config.camera.height} camera needs "
+                          f"{gigabytes(need.memory(1, 1))} of memory for one frame of one arm, "
+                          f"{gigabytes(available)} are available: make "
                           f"camera.width x camera.height at most about {fit:.3g} pixels")
     if need.memory(arms, block) > available:
         per_arm = need.memory(1, block)
@@ -96,8 +98,8 @@ def check_resources(config: Config, out_folder: Path) -> None:
     free = shutil.disk_usage(existing(out_folder)).free * HEADROOM
     if need.disk_bytes > free:
         seconds = config.run.duration * free / need.disk_bytes
-        raise ConfigError(f"the run would write about {gigabytes(need.disk_bytes)} to {existing(out_folder)}, which has "
-                          f"{gigabytes(free)} free: at most {seconds:.3g} s of {arms} arm(s) fit")
+        raise ConfigError(f"the run would write about {gigabytes(need.disk_bytes)} to {existing(out_folder)}, "
+                          f"which has {gigabytes(free)} free: at most {seconds:.3g} s of {arms} arm(s) fit")
     _check_open_files(arms)
 
 

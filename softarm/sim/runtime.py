@@ -57,7 +57,8 @@ def on_cpu() -> bool:
 
 
 def device_array(shape: tuple[int, ...], dtype: str) -> Union[np.ndarray, ti.Ndarray]:
-    """A kernel argument array: plain NumPy on the CPU (kernels work on it in place, no copies), device memory on a GPU."""
+    """A kernel argument array: plain NumPy on the CPU (kernels work on it in place, no copies), device memory on
+    a GPU."""
     if on_cpu():
         return np.zeros(shape, dtype)
     return ti.ndarray({"float64": ti.f64, "int32": ti.i32, "uint8": ti.u8}[dtype], shape)

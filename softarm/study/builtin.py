@@ -31,7 +31,8 @@ def sensors() -> Study:
     trials = tuple(Trial(f"{placement}{n}", n, placement, {"sensing.pairs": sensor_pairs(placement, n, config)})
                    for placement in PLACEMENTS for n in SENSOR_COUNTS)
     bend = tuple(Trial(f"bend{n}", n, "bend (middle column)",
-                       {"sensing.bend": bend_triples(n, config), "train.inputs": ["bend", "drive"]}) for n in BEND_COUNTS)
+                       {"sensing.bend": bend_triples(n, config), "train.inputs": ["bend", "drive"]})
+                 for n in BEND_COUNTS)
     return Study("sensors", "sensor count", "stretch or bend sensors: how many, and where", trials + bend,
                  (*(f"{p}{n}" for p in PLACEMENTS for n in (2, 8)), "bend2", "bend4"))
 

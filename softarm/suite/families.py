@@ -2,7 +2,8 @@
 
 A family is one question about the body image (does it hold beyond the paper's amplitude, its
 frequencies, band-limited noise, a pure sine below or at the arm's resonance, noisy sensors, pokes, a
-load, damage, contact?); a level is one setting of it. Everything here is part of the suite's version: change a family, bump it.
+load, damage, contact?); a level is one setting of it. Everything here is part of the suite's version:
+change a family, bump it.
 Seeds from SUITE_SEED_BASE on belong to the suite; training refuses recordings made from them.
 """
 
@@ -15,7 +16,8 @@ SUITE_VERSION = "softarm-suite/2"
 SUITE_SEED_BASE = HELD_OUT_SEED_BASE  # seeds >= this are the suite's: training refuses their recordings
 DURATION = 20.0               # s per recording
 SEEDS_PER_LEVEL = 2
-CANDIDATES = 4                # the first seeds of a level's block, simulated; the first SEEDS_PER_LEVEL in view are kept
+CANDIDATES = 4                # the first seeds of a level's block, simulated;
+                              # the first SEEDS_PER_LEVEL in view are kept
 SEED_BLOCK = 10               # reserved seeds per level
 SUM = "excitation.sum_of_sines."
 
@@ -44,14 +46,16 @@ def sine(frequency: float, amplitude: float) -> dict[str, Any]:
 
 
 MOTION = (
-    Family("paper_amplitude", "the paper's drive at its default amplitude and a smaller one: memorised shapes or the body?",
+    Family("paper_amplitude", "the paper's drive at its default amplitude and a smaller one: "
+                              "memorised shapes or the body?",
            (Level("A=4mm (default)", {}), Level("A=2.5mm", {"excitation.amplitude": 0.0025}))),
     Family("paper_frequency", "the paper's three-sine product with every frequency scaled: other rhythms, same kind",
            (Level("f x0.8", {"excitation.frequencies": [1.688, 2.984, 3.464]}),
             Level("f x1.25", {"excitation.frequencies": [2.6375, 4.6625, 5.4125]}))),
     Family("multisine_low", "band-limited noise below the first mode (0.2-1 Hz): slow, quasi-static bending",
            (Level("rms 1.5mm", multisine([0.2, 1.0], 0.0015)), Level("rms 3mm", multisine([0.2, 1.0], 0.003)))),
-    Family("multisine_mid", "band-limited noise around the first mode (1-3 Hz, resonance 1.48 Hz): large dynamic swings",
+    Family("multisine_mid", "band-limited noise around the first mode (1-3 Hz, resonance 1.48 Hz): "
+                            "large dynamic swings",
            (Level("rms 1mm", multisine([1.0, 3.0], 0.001)), Level("rms 2mm", multisine([1.0, 3.0], 0.002)))),
     Family("multisine_broad", "broad-band noise over both first modes (0.2-6 Hz): the richest motion",
            (Level("rms 1mm", multisine([0.2, 6.0], 0.001, 16)), Level("rms 2mm", multisine([0.2, 6.0], 0.002, 16)))),
@@ -74,7 +78,8 @@ def world(kind: str, **keys: Any) -> dict[str, Any]:
 
 
 WORLD = (
-    Family("push", "pokes of random force, place and time: the world touches the arm, and nothing in the command says so",
+    Family("push", "pokes of random force, place and time: "
+                   "the world touches the arm, and nothing in the command says so",
            (Level("light pokes (10-30 mN a node)", world("push", count=[3, 5], start=[2.0, 18.0], duration=[0.05, 0.15],
                                                         force=[0.01, 0.03], rows=[9, 18])),
             Level("firm pokes (30-80 mN a node)", world("push", count=[3, 5], start=[2.0, 18.0], duration=[0.05, 0.15],

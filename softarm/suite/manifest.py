@@ -49,10 +49,12 @@ def read_suite(folder: Union[str, Path]) -> Suite:
         probes = {family: str(body["probes"]) for family, body in families.items()}
         groups = {family: str(body.get("group", "motion")) for family, body in families.items()}
     except (json.JSONDecodeError, KeyError, TypeError, AttributeError, ValueError):
-        raise RecordingError(f"{path} is not a suite manifest: write it again with softarm suite {folder} --force") from None
+        raise RecordingError(f"{path} is not a suite manifest: "
+                             f"write it again with softarm suite {folder} --force") from None
     empty = sorted(set(probes) - {c.family for c in cases})
     if empty:
-        raise RecordingError(f"{path}: family {empty[0]} has no recordings: write it again with softarm suite {folder} --force")
+        raise RecordingError(f"{path}: family {empty[0]} has no recordings: "
+                             f"write it again with softarm suite {folder} --force")
     missing = [c.path.name for c in cases if not c.path.is_file()]
     if missing:
         raise RecordingError(f"{folder} lacks {len(missing)} of the suite's recordings (first: {missing[0]}): "

@@ -78,7 +78,8 @@ class CaseScorer:
         from softarm.record.reader import read_model
 
         obstacles = any(d.get("kind") == "obstacle" for d in read_model(case.path).get("disturbances", []))
-        reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing, nodes=obstacles)
+        reading = self.model.read(case.path, sensor_noise if sensor_noise is not None else case.sensing,
+                                  nodes=obstacles)
         imaginer = self.model.imaginer_for(reading.config)
         windows, targets = imaginer.windows(reading.inputs)
         truth = reading.recording.frames[targets]
@@ -91,7 +92,8 @@ class CaseScorer:
             scores[PRIVILEGED] = score_node_ridge(imaginer, baselines, reading.inputs, targets, truth, rec.model,
                                                   rec.pixels_per_metre)
         rng = np.random.default_rng(0)
-        methods = {trust.name: (trust.confidence(prediction), trust.reference_iou(prediction, answer, imaginer.decode, rng))
+        methods = {trust.name: (trust.confidence(prediction),
+                                trust.reference_iou(prediction, answer, imaginer.decode, rng))
                    for trust in self.ways if trust.available(prediction)}
         surprise = prediction.surprise if prediction.surprise is not None else np.full(len(targets), np.nan)
         free = np.ones(len(rec.model["masses"]), bool)

@@ -80,14 +80,16 @@ def surprise_report(cases: list[CaseSurprise], own_threshold: float, frame_dt: f
         return None
     calm = [c for c in cases if not c.disturbed]
     negatives = np.concatenate([c.surprise for c in calm])
-    suite_threshold = alarm_threshold([(c.surprise, np.ones(len(c.surprise), bool)) for c in calm], frame_dt, PER_MINUTE)
+    suite_threshold = alarm_threshold([(c.surprise, np.ones(len(c.surprise), bool)) for c in calm], frame_dt,
+                                      PER_MINUTE)
     families = {}
     for family in dict.fromkeys(c.family for c in cases if c.disturbed):
         mine = [c for c in cases if c.family == family]
         score = np.concatenate([*(c.surprise for c in mine), negatives])
         label = np.concatenate([*(c.active for c in mine), np.zeros(len(negatives), bool)])
         finite = np.isfinite(score)
-        families[family] = {"auroc": auroc(score[finite], label[finite]), "disturbances": sum(len(c.onsets) for c in mine),
+        families[family] = {"auroc": auroc(score[finite], label[finite]),
+                            "disturbances": sum(len(c.onsets) for c in mine),
                             **latencies(mine, suite_threshold, frame_dt, "suite"),
                             **latencies(mine, own_threshold, frame_dt, "own"), **presence_scores(mine, score, frame_dt)}
     return {"families": families, "thresholds": {"suite": suite_threshold, "own": own_threshold},

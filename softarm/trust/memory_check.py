@@ -36,7 +36,8 @@ class MemoryCheck:
     def step(self, state: np.ndarray, inputs: np.ndarray) -> float:
         """One sample's value of `residuals`, given the state before it (H,)."""
         hidden = len(state)
-        expected = state @ self.weights[:hidden] + inputs[list(self.command)] @ self.weights[hidden:-1] + self.weights[-1]
+        expected = (state @ self.weights[:hidden] + inputs[list(self.command)] @ self.weights[hidden:-1]
+                    + self.weights[-1])
         return float((((inputs[list(self.felt)] - expected) / self.scale) ** 2).mean())
 
     def to_state(self) -> dict[str, Any]:

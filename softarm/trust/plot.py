@@ -12,7 +12,8 @@ from softarm.files import atomic_path
 COLOURS = ("#1f6fb4", "#d0452f", "#2a9d5c", "#8a5ac2")
 
 
-def save_sparsification_png(report: dict[str, Any], path: Union[str, Path], fractions: np.ndarray, title: str = "") -> Path:
+def save_sparsification_png(report: dict[str, Any], path: Union[str, Path], fractions: np.ndarray,
+                            title: str = "") -> Path:
     """`fractions`: the share of frames dropped at each point of the report's curves (the suite's)."""
     import matplotlib
 

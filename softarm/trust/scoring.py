@@ -28,7 +28,8 @@ def trust_scores(confidence: np.ndarray, iou: np.ndarray) -> dict[str, Any]:
     rest[low] = False
     curve, oracle = sparsification(confidence, iou), sparsification(iou, iou)
     return {"spearman": spearman(confidence, iou), "auroc": auroc(-confidence, iou < FLAGGED),
-            "least_trusted_iou": float(iou[low].mean()), "rest_iou": float(iou[rest].mean()) if rest.any() else float("nan"),
+            "least_trusted_iou": float(iou[low].mean()),
+            "rest_iou": float(iou[rest].mean()) if rest.any() else float("nan"),
             "ause": float(np.trapezoid(oracle - curve, FRACTIONS)), "sparsification": curve.tolist(),
             "oracle": oracle.tolist(), "flagged_share": float(np.mean(iou < FLAGGED)), "frames": int(len(iou))}
 

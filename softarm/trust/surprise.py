@@ -204,7 +204,8 @@ class SurpriseReader:
             x[LAGS * width:-1] = inputs[self.command]
             residual = (inputs[self.felt] - x @ m.weights) / m.scale
             self.vigour[:-1] = np.log(np.maximum(self.averages - self.inflation, 0.0).ravel() + FLOOR)
-            values[0] = float(residual @ residual) / len(residual) / (float(np.exp(self.vigour @ m.spread)) + self.floor)
+            values[0] = (float(residual @ residual) / len(residual)
+                         / (float(np.exp(self.vigour @ m.spread)) + self.floor))
         if m.memory is not None and self.state is not None and np.isfinite(self.state).all():
             values[1] = m.memory.step(self.state, inputs)
         for i, value in enumerate(values):

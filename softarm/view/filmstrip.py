@@ -57,7 +57,8 @@ def replay_filmstrip(result: Any, columns: int = 8, span: Optional[tuple[float, 
     if span is not None:
         frames = frames[(result.times[frames] >= span[0]) & (result.times[frames] <= span[1])]
         if not len(frames):
-            raise BlindRangeError(f"--png-span {span[0]:g}:{span[1]:g} holds no imagined frame of {result.recording.path}")
+            raise BlindRangeError(f"--png-span {span[0]:g}:{span[1]:g} holds no imagined frame of "
+                                  f"{result.recording.path}")
     picks = frames[np.linspace(0, len(frames) - 1, columns).round().astype(int)]
     truth = result.recording.frames[picks]
     rows = [truth, result.imagined[picks], DIFFERENCE_COLOURS[difference_codes(truth, result.imagined[picks])] / 255.0]

@@ -34,7 +34,8 @@ def preview_image(examples: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
     """The examples left to right, each as camera | mask over it | mask at the models' size, under a caption."""
     strips = [example_strip(*example) for example in examples]
     sheet = Image.new("RGB", (sum(s.width + 3 * GAP for s in strips) + GAP, HEIGHT + 30), "white")
-    ImageDraw.Draw(sheet).text((GAP, 6), caption + "   (each frame: camera and its region of interest | mask over it | mask at the models' size)",
+    ImageDraw.Draw(sheet).text((GAP, 6), caption + "   (each frame: camera and its region of interest | "
+                                                   "mask over it | mask at the models' size)",
                                fill="black")
     x = GAP
     for strip in strips:

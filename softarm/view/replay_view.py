@@ -1,6 +1,6 @@
 """The replay timeline in Rerun: camera (with the arm's nodes) | imagined | difference | fused on top,
-the input channels (the stretch), excitation and per-frame IoU below, all on the `sim_time` timeline. It logs; `softarm.imagine`
-computed everything."""
+the input channels (the stretch), excitation and per-frame IoU below, all on the `sim_time` timeline. It logs;
+`softarm.imagine` computed everything."""
 
 from pathlib import Path
 from typing import Any, Optional
@@ -39,7 +39,8 @@ def log_replay(result: Any, rrd: Optional[Path] = None, spawn: bool = False,
     """
     if rrd is None and not spawn:
         return None
-    stream = RerunStream("softarm-replay", replay_blueprint([name for name, _ in result.channels]), rrd=rrd, spawn=spawn)
+    stream = RerunStream("softarm-replay", replay_blueprint([name for name, _ in result.channels]), rrd=rrd,
+                         spawn=spawn)
     try:
         _log_images(stream.rec, result, imagined_bytes)
         _log_signals(stream.rec, result)
@@ -90,7 +91,8 @@ def _log_signals(rec: rr.RecordingStream, result: Any) -> None:
     if np.isfinite(result.surprise).any():  # a checkpoint with a forward model (docs/model.md, Surprise)
         felt = seen & np.isfinite(result.surprise)
         felt_times = [rr.TimeColumn("sim_time", duration=result.times[felt])]
-        rec.send_columns("signals/surprise", indexes=felt_times, columns=rr.Scalars.columns(scalars=result.surprise[felt]))
+        rec.send_columns("signals/surprise", indexes=felt_times,
+                         columns=rr.Scalars.columns(scalars=result.surprise[felt]))
         rec.send_columns("signals/alarm", indexes=imagined_times,
                          columns=rr.Scalars.columns(scalars=result.alarm[seen].astype(np.float64)))
     rec.send_columns("signals/blind", indexes=times, columns=rr.Scalars.columns(

@@ -10,7 +10,8 @@ from tests.helpers.cli import assert_one_line_error, softarm
 def test_output_whose_parent_is_a_file_is_refused(recordings, tiny_checkpoint, tmp_path, command):
     (tmp_path / "afile").write_text("")
     args = {"train": ["train", str(recordings / "s0.mcap"), "--out", "afile/x.pt"],
-            "replay": ["replay", str(tiny_checkpoint.checkpoint), str(recordings / "s0.mcap"), "--mcap", "afile/x.mcap"]}
+            "replay": ["replay", str(tiny_checkpoint.checkpoint), str(recordings / "s0.mcap"), "--mcap",
+                       "afile/x.mcap"]}
     assert_one_line_error(softarm(*args[command], cwd=tmp_path), "afile", "not a folder")
 
 

@@ -37,7 +37,8 @@ def test_the_cli_installs_as_softarm_cli_and_no_package_called_cli(tmp_path):
 
 @pytest.mark.parametrize("command, shown", [
     ("sim", ["--duration <float>", "[default: 100]", "[default: 0.004]", "[default: 30]", "[default: cpu]"]),
-    ("train", ["[default: 20]", "[default: 150]", "[default: 6]", "[default: 16]", "--include-current / --previous-only"]),
+    ("train", ["[default: 20]", "[default: 150]", "[default: 6]", "[default: 16]",
+               "--include-current / --previous-only"]),
     ("replay", ["CHECKPOINT <path>", "RECORDING <path>", "--blind START:END", "Example: softarm replay"]),
 ])
 def test_help_shows_every_default_and_flags_without_a_value(tmp_path, command, shown):

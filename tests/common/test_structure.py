@@ -25,7 +25,8 @@ def imported(path: Path, known: dict[str, Path]) -> set[str]:
     and a.b.c too where that is a module."""
     names = set()
     tree = ast.parse(path.read_text())
-    for guarded in [n for n in ast.walk(tree) if isinstance(n, ast.If) and getattr(n.test, "id", "") == "TYPE_CHECKING"]:
+    for guarded in [n for n in ast.walk(tree)
+                    if isinstance(n, ast.If) and getattr(n.test, "id", "") == "TYPE_CHECKING"]:
         guarded.body = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):

@@ -24,7 +24,8 @@ def test_every_task_passes_gymnasiums_env_checker(task):
     check_env(env.unwrapped, skip_render_check=False)
     env.reset(seed=1)
     image = env.render()
-    assert image.shape == (4 * 84, 4 * 52, 3) and image.dtype == np.uint8 and len(np.unique(image.reshape(-1, 3), axis=0)) > 3
+    assert (image.shape == (4 * 84, 4 * 52, 3) and image.dtype == np.uint8
+            and len(np.unique(image.reshape(-1, 3), axis=0)) > 3)
     env.close()
 
 
@@ -40,7 +41,8 @@ def test_make_vec_builds_the_native_vector_env_with_batched_spaces():
     assert reward.shape == terminated.shape == truncated.shape == (3,) and obs in envs.observation_space
     assert info["distance"].shape == (3,) and info["_distance"].all()
     control = SHORT.control  # the reward of README's task table, never above 0
-    np.testing.assert_allclose(reward, -info["distance"] / control.reward_scale - (info["distance"] >= control.tolerance))
+    np.testing.assert_allclose(reward,
+                               -info["distance"] / control.reward_scale - (info["distance"] >= control.tolerance))
     envs.close()
 
 

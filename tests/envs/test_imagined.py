@@ -12,7 +12,8 @@ from softarm.errors import CheckpointError
 from softarm.imagine.trained import TrainedModel
 from tests.envs.conftest import random_commands
 
-QUICK = load_config(overrides={"control.episode": 0.3, "control.hold": 0.1, "control.workspace_samples": 16})  # 30 steps
+QUICK = load_config(overrides={"control.episode": 0.3, "control.hold": 0.1,
+                               "control.workspace_samples": 16})  # 30 steps
 
 
 @pytest.mark.slow

@@ -11,7 +11,8 @@ from softarm.arm.body import Body
 from softarm.arm.drive import Drive
 
 STIFFNESS, DAMPING, MASS, REST_LENGTH = 1000.0, 0.9, 0.01, 0.01
-STILL = Drive(kind="product_of_sines", time_offset=0.0, direction=(1.0, 0.0), frequencies=(2.11, 3.73, 4.33), amplitude=0.0)
+STILL = Drive(kind="product_of_sines", time_offset=0.0, direction=(1.0, 0.0), frequencies=(2.11, 3.73, 4.33),
+              amplitude=0.0)
 
 
 def one_spring(damping: float = DAMPING) -> Body:

@@ -20,7 +20,8 @@ def drive(excitation: dict[str, Any]) -> tuple:
             return a * sum(w * math.cos(w * tau) * math.prod(math.sin(u * tau) for k, u in enumerate(freqs) if k != n)
                            for n, w in enumerate(freqs))
         return f, df
-    parts = list(zip(excitation["amplitudes"], [2 * math.pi * f for f in excitation["frequencies"]], excitation["phases"]))
+    parts = list(zip(excitation["amplitudes"], [2 * math.pi * f for f in excitation["frequencies"]],
+                     excitation["phases"]))
     return (lambda tau: sum(a * math.sin(w * tau + p) for a, w, p in parts),
             lambda tau: sum(a * w * math.cos(w * tau + p) for a, w, p in parts))
 
@@ -67,7 +68,8 @@ def resimulate(model: dict[str, Any], frames: int) -> np.ndarray:
                 inside = (distance > 0) & (distance < d["radius"])
                 normal = r[inside] / distance[inside, None]
                 depth = d["radius"] - distance[inside]
-                push_out = np.maximum(0.0, d["stiffness"] * depth - d["damping"] * np.einsum("nk,nk->n", v[free][inside], normal))
+                push_out = np.maximum(0.0, d["stiffness"] * depth
+                                      - d["damping"] * np.einsum("nk,nk->n", v[free][inside], normal))
                 force[free[inside]] += push_out[:, None] * normal
             elif d["kind"] == "drag":  # F = (c + c2 |w|) w, w = u - v, on every free node
                 w = np.array(d["velocity"], float) - v[free]

@@ -32,8 +32,8 @@ def test_rrd_verifies_and_holds_the_replay_entities(outputs):
     assert subprocess.run([RERUN, "rrd", "verify", str(folder / "r.rrd")], capture_output=True).returncode == 0
     entities = set(rr.chunk.RrdReader(str(folder / "r.rrd")).store().schema().entity_paths())
     expected = {"/camera/image", "/camera/nodes", "/imagined/image", "/difference/image", "/fused/image",
-                "/signals/excitation", "/signals/iou", "/signals/confidence", "/signals/stretch/0", "/signals/stretch/3",
-                "/signals/surprise", "/signals/alarm"}
+                "/signals/excitation", "/signals/iou", "/signals/confidence", "/signals/stretch/0",
+                "/signals/stretch/3", "/signals/surprise", "/signals/alarm"}
     assert expected <= entities, entities
     assert not (folder / "r.rrd.part").exists()
 

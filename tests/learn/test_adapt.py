@@ -43,7 +43,8 @@ def latent_error(checkpoint, recording, frames):
     reading = model.read(recording)
     prediction = model.imaginer.predict(reading.inputs)
     chosen = np.isin(prediction.targets, frames)
-    truth = model.imaginer.latent_scaler.forward(encode_frames(model.imaginer.autoencoder, reading.recording.frames[frames]))
+    truth = model.imaginer.latent_scaler.forward(encode_frames(model.imaginer.autoencoder,
+                                                               reading.recording.frames[frames]))
     return float(np.mean((prediction.latents[chosen] - truth) ** 2))
 
 
@@ -61,7 +62,8 @@ def test_the_latents_fine_tuning_differentiates_are_the_models_answers(loaded, f
 
 @pytest.mark.slow
 def test_adapt_fits_the_seconds_of_camera_and_reports_the_rest(loaded, tiny_checkpoint, tmp_path):
-    result = softarm("adapt", str(tiny_checkpoint.checkpoint), str(loaded), "--seconds", "2", "--out", "a.pt", cwd=tmp_path)
+    result = softarm("adapt", str(tiny_checkpoint.checkpoint), str(loaded), "--seconds", "2", "--out", "a.pt",
+                     cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "from 2.00 s" in result.stdout and "IoU" in result.stdout
     window = np.arange(200, 400)  # the lasting disturbance's start, 2 s of camera

@@ -35,7 +35,8 @@ def test_checkpoint_loads_with_weights_only_and_rebuilds_the_imaginer(tiny_check
     state = torch.load(trained.checkpoint, weights_only=True)
     imaginer = Imaginer.from_checkpoint(state)
     assert state["recordings"][0]["name"] == "s0.mcap" and len(state["recordings"][0]["sha256"]) == 16
-    assert state["image_shape"] == [84, 52] and [(i["name"], i["features"]) for i in state["inputs"]] == [("stretch", 4)]
+    assert (state["image_shape"] == [84, 52]
+            and [(i["name"], i["features"]) for i in state["inputs"]] == [("stretch", 4)])
     stretch = np.random.default_rng(0).normal(0, 1e-3, (20, 4))
     prediction, probs = imaginer.imagine(stretch)
     assert prediction.targets.tolist() == list(range(6, 20)) and probs.shape == (14, 84, 52)
@@ -71,7 +72,8 @@ def test_resume_after_an_interruption_ends_exactly_like_an_uninterrupted_run(rec
     second = train([recordings / "s0.mcap"], config, out, resume=True)
     assert second.complete
     assert second.metrics == trained.metrics
-    np.testing.assert_equal(load_checkpoint(out)["losses"], load_checkpoint(trained.checkpoint)["losses"])  # NaN: not validated
+    np.testing.assert_equal(load_checkpoint(out)["losses"],
+                            load_checkpoint(trained.checkpoint)["losses"])  # NaN: not validated
 
 
 @pytest.mark.slow

@@ -66,4 +66,5 @@ def test_validating_a_latent_model_less_often_leaves_its_weights_as_they_were(re
         assert all(torch.equal(every[network][key], value) for key, value in sparse[network].items())
     validated = [k for k, value in enumerate(sparse["losses"]["latent_val"]) if not math.isnan(value)]
     assert validated == [4, 6] and not any(map(math.isnan, every["losses"]["latent_val"]))
-    assert [sparse["losses"]["latent_val"][k] for k in validated] == [every["losses"]["latent_val"][k] for k in validated]
+    assert ([sparse["losses"]["latent_val"][k] for k in validated]
+            == [every["losses"]["latent_val"][k] for k in validated])

@@ -26,11 +26,13 @@ def test_import_finds_the_lag_the_gaps_and_the_masks(recordings, robot_bag, impo
     assert abs(report.camera_hz - 30) < 0.5 and abs(report.sensor_hz - 100) < 1
     assert report.dropped == len(robot_bag.dropped) and rec.model["gaps"] == report.gaps
     assert abs(report.frame_dt - 0.01) < 1e-12 and abs(rec.seen.sum() - robot_bag.frames) <= 1
-    assert rec.imported and rec.positions is None and not rec.seen[report.gaps].any() and rec.seen.sum() > 100 and rec.frame_dt == 0.01
+    assert (rec.imported and rec.positions is None and not rec.seen[report.gaps].any() and rec.seen.sum() > 100
+            and rec.frame_dt == 0.01)
     k = native_index(rec, native, 1_700_000_000.0)
     assert iou_per_frame(rec.frames[rec.seen].astype(float), native.frames[k[rec.seen]]).mean() > 0.93
     at = rec.times + rec.model["source"]["found"]["t0"] - 1_700_000_000.0 + report.lag - robot_bag.offset
-    for imported_signal, source in ((rec.stretch, native.stretch), (rec.displacement[:, None], native.displacement[:, None])):
+    for imported_signal, source in ((rec.stretch, native.stretch),
+                                    (rec.displacement[:, None], native.displacement[:, None])):
         expected = np.stack([np.interp(at, native.times, s) for s in source.T], axis=1)
         assert np.abs(imported_signal - expected).max() < 0.04 * np.abs(source).max()
 

@@ -20,7 +20,8 @@ def yuv_bag(tmp_path_factory):
         for k in range(3):
             writer.write_message("/cam", schema, {"header": {"stamp": {"sec": k, "nanosec": 0}, "frame_id": "c"},
                                                   "height": 2, "width": 2, "encoding": "yuv422", "is_bigendian": 0,
-                                                  "step": 4, "data": bytes(8)}, log_time=k * 10**9, publish_time=k * 10**9)
+                                                  "step": 4, "data": bytes(8)}, log_time=k * 10**9,
+                                 publish_time=k * 10**9)
         writer.finish()
     return path
 
@@ -35,7 +36,8 @@ def run_import(bag, tmp_path, *extra: str, camera: str = "/camera/image_raw/comp
 
 def test_a_topic_not_in_the_log_is_named_with_the_topics_that_are(robot_bag, tmp_path):
     message = assert_one_line_error(run_import(robot_bag.path, tmp_path, camera="/nope"), "/nope")
-    assert "/camera/image_raw/compressed" in message and "/arm/stretch:data" in message and "/arm/command:position" in message
+    assert ("/camera/image_raw/compressed" in message and "/arm/stretch:data" in message
+            and "/arm/command:position" in message)
 
 
 @pytest.mark.slow

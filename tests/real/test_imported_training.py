@@ -26,7 +26,8 @@ def test_an_imported_recording_trains_replays_and_skips_its_gaps(imported, tmp_p
     assert result.complete and np.isfinite(result.metrics["imagination"]["model"]["iou"])
     assert np.isnan(result.metrics["imagination"]["model"]["tip_mm"])  # no camera scale: no tip error in mm
     replay = compute_replay(result.checkpoint, path)
-    assert np.isnan(replay.iou[report.gaps]).all() and np.isfinite(replay.iou[replay.predicted & replay.recording.seen]).all()
+    assert (np.isnan(replay.iou[report.gaps]).all()
+            and np.isfinite(replay.iou[replay.predicted & replay.recording.seen]).all())
     assert replay.nodes_px is None and 0 < replay.metrics["imagination"]["iou"] <= 1
     streamer = StreamingImaginer.from_checkpoint(result.checkpoint)  # online, sample by sample, as the replay
     streamed = [f for f in (streamer.step(stretch=sample) for sample in replay.recording.stretch[:60]) if f is not None]

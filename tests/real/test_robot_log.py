@@ -135,7 +135,8 @@ def test_a_failed_write_leaves_no_file(recordings, tmp_path, monkeypatch):
 
 def camera_images(log) -> np.ndarray:
     """(frames, H, W, 3) uint8 of the log's camera, decoded by mcap-ros2-support and PIL."""
-    return np.stack([np.asarray(Image.open(io.BytesIO(m.data)).convert("RGB")) for _, m in decoded(log.path, log.camera_topic)])
+    return np.stack([np.asarray(Image.open(io.BytesIO(m.data)).convert("RGB"))
+                     for _, m in decoded(log.path, log.camera_topic)])
 
 
 @pytest.mark.slow
@@ -169,7 +170,8 @@ def test_scene_options_change_what_the_camera_sees_and_nothing_else(recordings, 
     smeared = camera_images(make_robot_log(recordings / "s0.mcap", tmp_path / "blur.mcap",
                                            RobotLogSettings(**dict(base, motion_blur=0.05))))
     smear = np.abs(smeared.astype(int) - plain_images).sum(-1) > 30  # where the exposure moved the arm's cover
-    near = np.logical_or.reduce([np.roll(arm, (dy, dx), (1, 2)) for dy in range(-12, 13, 3) for dx in range(-12, 13, 3)])
+    near = np.logical_or.reduce([np.roll(arm, (dy, dx), (1, 2))
+                                 for dy in range(-12, 13, 3) for dx in range(-12, 13, 3)])
     assert smear.sum() > 0.05 * arm.sum() and not smear[~near].any()
 
     swinging = camera_images(make_robot_log(recordings / "s0.mcap", tmp_path / "swing.mcap",
@@ -178,7 +180,8 @@ def test_scene_options_change_what_the_camera_sees_and_nothing_else(recordings, 
     assert not changed[inner].any()                                # behind the arm, never over it
     where = [np.argwhere(c).mean(0) for c in changed]
     sizes = changed.sum((1, 2))
-    assert np.median(sizes) > 500 and sizes.min() > 50 and np.linalg.norm(where[0] - where[-1]) > 20, (sizes.min(), where[0], where[-1])
+    assert (np.median(sizes) > 500 and sizes.min() > 50
+            and np.linalg.norm(where[0] - where[-1]) > 20), (sizes.min(), where[0], where[-1])
 
 
 @pytest.mark.parametrize("field, value, words", [("arm_rgb", (300, 0, 0), "--arm-colour"),

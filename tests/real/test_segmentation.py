@@ -69,8 +69,8 @@ def test_the_colour_cut_prints_as_a_rule_that_parses_back_to_the_same_masks():
     colour = fit_colour(frames, *choose_rule(frames, None)[:2])
     again = parse_mask(colour.text)
     assert again.weights == colour.weights and again.cut == colour.cut
-    assert np.array_equal(again.apply(again.channel(frames[1], None), None), colour.apply(colour.channel(frames[1], None),
-                                                                                          None))
+    assert np.array_equal(again.apply(again.channel(frames[1], None), None),
+                          colour.apply(colour.channel(frames[1], None), None))
     with pytest.raises(ConfigError, match="all zero"):
         parse_mask("rgb=0,0,0>10")
     with pytest.raises(ConfigError, match="rgb=WR,WG,WB>CUT"):

@@ -37,7 +37,8 @@ def test_every_kind_records_re_simulates_from_its_metadata_and_passes_the_checke
     free = np.setdiff1d(np.arange(len(rec.model["nodes"])), rec.model["driven"])
     for d, entry in enumerate(listed):  # the label of contact: an active obstacle some free node is inside
         inside = (entry["kind"] == "obstacle"
-                  and (np.linalg.norm(rec.positions[:, free] - entry.get("centre", 0.0), axis=2) < entry.get("radius", 0))
+                  and (np.linalg.norm(rec.positions[:, free] - entry.get("centre", 0.0), axis=2)
+                       < entry.get("radius", 0))
                   .any(axis=1))
         assert np.array_equal(rec.touching[:, d], inside & rec.active[:, d])
     if "obstacle" in [d["kind"] for d in listed]:
@@ -66,10 +67,13 @@ def test_bad_disturbances_are_refused_in_one_line_before_any_file(tmp_path):
 
     cases = {"unknown kind": ('kind = "wind"\nstart = 1.0', "kind", "wind"),
              "node out of range": ('kind = "push"\nstart = 1.0\nforce = [1.0, 0.0]\nnodes = [99]', "nodes", "0..56"),
-             "spring out of range": ('kind = "stiffness"\nstart = 0.0\nfactor = 2.0\nsprings = [164]', "springs", "0..163"),
+             "spring out of range": ('kind = "stiffness"\nstart = 0.0\nfactor = 2.0\nsprings = [164]', "springs",
+                                     "0..163"),
              "negative mass": ('kind = "payload"\nstart = 0.0\nmass = -0.01\nnodes = [55]', "mass", ">= 0"),
-             "end before start": ('kind = "push"\nstart = 2.0\nend = 1.0\nforce = [1.0, 0.0]\nnodes = [55]', "end", "after start"),
-             "obstacle on the top row": ('kind = "obstacle"\nstart = 0.0\ncentre = [0.0, 0.0]\nradius = 0.01', "centre", "driven")}
+             "end before start": ('kind = "push"\nstart = 2.0\nend = 1.0\nforce = [1.0, 0.0]\nnodes = [55]', "end",
+                                  "after start"),
+             "obstacle on the top row": ('kind = "obstacle"\nstart = 0.0\ncentre = [0.0, 0.0]\nradius = 0.01',
+                                         "centre", "driven")}
     for name, (table, key, words) in cases.items():
         (tmp_path / "c.toml").write_text(f"[[disturbances]]\n{table}\n")
         assert_one_line_error(softarm("sim", "--config", "c.toml", "--out", "r.mcap", cwd=tmp_path), f".{key}'", words)

@@ -58,7 +58,8 @@ def older(source_path: Path, target_path: Path, version: int) -> None:
                 model = orjson.loads(values["model"])
                 del model["disturbances"]
                 if version == 1:
-                    model["excitation"] = {k: model["excitation"][k] for k in ("amplitude", "frequencies", "time_offset")}
+                    model["excitation"] = {k: model["excitation"][k]
+                                           for k in ("amplitude", "frequencies", "time_offset")}
                 values = {"format": f"softarm-recording/{version}", "model": orjson.dumps(model).decode()}
             writer.add_metadata(meta.name, values)
         for _, channel, message in reader.iter_messages():

@@ -173,7 +173,8 @@ def test_a_chunk_exactly_full_takes_one_more_record_as_the_per_message_writer_di
     writer.register_channel("a", "json", writer.register_schema("s", "jsonschema", b"{}"))
     writer.add_messages([1] * 7, list(range(7)), [b"x" * 319] * 7)
     writer.finish()
-    assert [sum(len(index.records) for index in indexes) for _, indexes in chunks_and_indexes(stream.getvalue())] == [3, 3, 1]
+    assert [sum(len(index.records) for index in indexes)
+            for _, indexes in chunks_and_indexes(stream.getvalue())] == [3, 3, 1]
 
 
 def test_float32_and_strided_inputs_write_the_same_bytes_by_both_encoders(tmp_path, monkeypatch):

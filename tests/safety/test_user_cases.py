@@ -45,7 +45,8 @@ def test_outputs_never_replace_an_input(rec, ckpt, tmp_path):
     os.link(rec, tmp_path / "hard.mcap")  # another name for the same file
     assert_one_line_error(softarm("replay", "m.pt", "x.mcap", "--png", "hard.mcap", "--force", cwd=tmp_path),
                           "hard.mcap", "is the input")
-    assert_one_line_error(softarm("replay", "m.pt", "x.mcap", "--rrd", "./m.pt", "--force", cwd=tmp_path), "is the input")
+    assert_one_line_error(softarm("replay", "m.pt", "x.mcap", "--rrd", "./m.pt", "--force", cwd=tmp_path),
+                          "is the input")
     assert digest(rec) == before and (tmp_path / "m.pt").stat().st_size > 0
 
 
@@ -104,7 +105,8 @@ def test_damaged_checkpoints_and_corpus_manifests_get_one_line(rec, tmp_path):
     # random bytes, opening as a pickle of protocol 83: torch warns of that before it fails, and the user still
     # gets one line
     (tmp_path / "random.pt").write_bytes(b"\x80\x53" + np.random.default_rng(0).bytes(4998))
-    assert_one_line_error(softarm("replay", "random.pt", "x.mcap", cwd=tmp_path), "random.pt", "not a softarm checkpoint")
+    assert_one_line_error(softarm("replay", "random.pt", "x.mcap", cwd=tmp_path), "random.pt",
+                          "not a softarm checkpoint")
     suite = mini_suite(tmp_path / "suite", rec)
     assert_one_line_error(softarm("evaluate", "random.pt", str(suite), cwd=tmp_path), "random.pt")
     corpus = tmp_path / "corpus"
@@ -136,7 +138,8 @@ def test_an_interrupted_forced_training_leaves_no_metrics_of_the_old_run(rec, tm
     from softarm.learn.training import train
     from tests.helpers.tiny import TINY
 
-    first = train([rec], load_config(overrides={**TINY, "train.epochs_ae": 1, "train.epochs_lstm": 1}), tmp_path / "m.pt")
+    first = train([rec], load_config(overrides={**TINY, "train.epochs_ae": 1, "train.epochs_lstm": 1}),
+                  tmp_path / "m.pt")
     assert first.metrics_path.exists()
     calls = iter(range(10**6))  # asked once per recording read, then after every step: 11 steps an epoch here
     stopped = train([rec], load_config(overrides=TINY), tmp_path / "m.pt", force=True, stop=lambda: next(calls) > 14)

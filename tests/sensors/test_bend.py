@@ -74,8 +74,10 @@ def test_the_learner_reads_recorded_and_recomputed_bend_alike_and_the_default_re
     np.testing.assert_array_equal(sensed_kind(recorded, Bend(), load_config().sensing),
                                   sensed_kind(recorded, Bend(), recomputed.sensing))
     assert "bend" not in plain.model and plain.sensed == {}
-    np.testing.assert_array_equal(BendInput().read(plain, recomputed), sensed_kind(recorded, Bend(), recomputed.sensing))
-    assert BendInput().features(plain.model, recomputed) == 4 and BendInput().features(recorded.model, load_config()) == 4
+    np.testing.assert_array_equal(BendInput().read(plain, recomputed),
+                                  sensed_kind(recorded, Bend(), recomputed.sensing))
+    assert (BendInput().features(plain.model, recomputed) == 4
+            and BendInput().features(recorded.model, load_config()) == 4)
     with pytest.raises(RecordingError, match="has no bend sensors: record them"):
         BendInput().read(plain, load_config())
     noisy = load_config(overrides={"sensing.bend": TRIPLES, "sensing.bend_noise": 0.01}).sensing

@@ -44,7 +44,8 @@ def test_a_batch_written_by_several_writers_is_byte_identical_run_after_run(tmp_
         result = softarm("sim", "--duration", "3", "--arms", "3", "--out", f"{folder}/b.mcap", "-q", cwd=tmp_path)
         assert result.returncode == 0, result.stderr
     for arm in range(3):
-        assert (tmp_path / "one" / f"b_arm{arm}.mcap").read_bytes() == (tmp_path / "two" / f"b_arm{arm}.mcap").read_bytes()
+        assert ((tmp_path / "one" / f"b_arm{arm}.mcap").read_bytes()
+                == (tmp_path / "two" / f"b_arm{arm}.mcap").read_bytes())
 
 
 @pytest.mark.slow

@@ -94,12 +94,13 @@ def small_suite(suite_folder, tmp_path_factory):
 
 @pytest.mark.slow
 def test_evaluate_writes_every_family_with_its_baselines_and_skill(small_suite, tiny_checkpoint, tmp_path):
-    result = softarm("evaluate", str(tiny_checkpoint.checkpoint), str(small_suite), "--json", "e.json", "--png", "e.png",
-                     "--trust-png", "t.png", cwd=tmp_path, timeout=300)
+    result = softarm("evaluate", str(tiny_checkpoint.checkpoint), str(small_suite), "--json", "e.json",
+                     "--png", "e.png", "--trust-png", "t.png", cwd=tmp_path, timeout=300)
     assert result.returncode == 0, result.stderr
     assert "paper_amplitude" in result.stdout and "sensor_noise" in result.stdout
     document = json.loads((tmp_path / "e.json").read_text())
-    assert document["suite"] == SUITE_VERSION and set(document["families"]) == {"paper_amplitude", "sensor_noise", "push"}
+    assert (document["suite"] == SUITE_VERSION
+            and set(document["families"]) == {"paper_amplitude", "sensor_noise", "push"})
     for row in document["families"].values():
         assert row["frames"] in (2 * 1994, 3 * 1994)  # per level, every frame after the first 6-sample window
         assert set(row["baselines"]) == {"mean_frame", "ridge", "ae_ceiling", "ridge_nodes"}
@@ -128,7 +129,8 @@ def test_sensor_noise_reaches_the_stretch_answers_and_nothing_else(suite_folder,
 
     calm = part_of_suite(suite_folder, tmp_path, ("paper_amplitude",))  # one family: two evaluations in seconds
     clean = evaluate_suite(tiny_checkpoint.checkpoint, calm)["families"]["paper_amplitude"]
-    noisy = evaluate_suite(tiny_checkpoint.checkpoint, calm, sensor_noise={"noise": 1e-2})["families"]["paper_amplitude"]
+    noisy = evaluate_suite(tiny_checkpoint.checkpoint, calm,
+                           sensor_noise={"noise": 1e-2})["families"]["paper_amplitude"]
     assert noisy["baselines"]["ridge"]["iou"] < clean["baselines"]["ridge"]["iou"] - 0.05  # 10 mm of noise hurts
     assert noisy["iou"] != clean["iou"]
     for camera_side in ("mean_frame", "ae_ceiling"):

@@ -42,5 +42,6 @@ def test_the_ridge_gap_is_the_distance_to_the_ridge_baseline_and_older_maps_stil
     older = CalibratedTrust.build({"weights": [0.5, 0.1, 0.2, -2.0], "spread": 0.4})
     assert older.available(prediction)
     expected = 0.5 * np.log(np.exp(prediction.log_error).mean(axis=1)) - 2.0 + sum(
-        w * np.log(np.nan_to_num(x, nan=1.0) + 0.1) for w, x in ((0.1, prediction.surprise), (0.2, prediction.residual)))
+        w * np.log(np.nan_to_num(x, nan=1.0) + 0.1)
+        for w, x in ((0.1, prediction.surprise), (0.2, prediction.residual)))
     np.testing.assert_allclose(older.predicted(prediction), expected)

@@ -136,7 +136,8 @@ def test_the_noise_terms_match_what_noise_adds_to_the_residuals_and_the_vigour()
     told = model.heard_through(np.full(len(FELT), 0.2 ** 2))
     clean = linear_world(5, 60000)
     noisy = noisier(clean, 0.2, 8)
-    extra = np.nanmean((model.residuals(noisy) ** 2).mean(axis=1)) - np.nanmean((model.residuals(clean) ** 2).mean(axis=1))
+    extra = (np.nanmean((model.residuals(noisy) ** 2).mean(axis=1))
+             - np.nanmean((model.residuals(clean) ** 2).mean(axis=1)))
     assert abs(extra / told.noise_floor - 1.0) < 0.05
     added = np.nanmean(vigour_signals(noisy, model.felt, model.command), axis=0) - np.nanmean(
         vigour_signals(clean, model.felt, model.command), axis=0)
