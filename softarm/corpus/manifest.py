@@ -40,3 +40,15 @@ def _listed(manifest: Path) -> list[str]:
         raise RecordingError(f"{manifest.parent} lacks {len(missing)} of its corpus's recordings "
                              f"(first: {missing[0]}): {again}")
     return names
+
+
+def motion_group(recording: Path) -> str:
+    """The corpus group a recording was made in (the manifest beside it lists it under that group's name), or ""
+    where no manifest lists it: the folds the surprise is judged in out of group."""
+    manifest = Path(recording).parent / MANIFEST
+    try:
+        groups = json.loads(manifest.read_text())["groups"]
+        return next((name for name, group in groups.items() if Path(recording).name in group["recordings"]), "")
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, AttributeError):
+        return ""
+

@@ -23,7 +23,7 @@ from softarm.model.prediction import Prediction, joined_members
 from softarm.model.scaler import Scaler
 from softarm.registry import latent_model_class, trust_class
 from softarm.trust.confidence import ErrorHeadTrust, Trust
-from softarm.trust.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel
+from softarm.trust.surprise import DESIGN, SurpriseModel, feature_width, linear_width
 
 
 @dataclass
@@ -154,8 +154,9 @@ def surprise_of(state: dict[str, Any], features: int, hidden: int) -> Optional[S
         raise CheckpointError("the checkpoint's surprise model is damaged: refit it with `softarm train RECORDINGS "
                               "--out CHECKPOINT --resume`") from None
     memory = surprise.memory
-    if (surprise.weights.shape[0] != LAGS * features + len(surprise.command) + 1
-            or len(surprise.spread) != VIGOURS * len(WINDOWS) + 1
+    if (surprise.weights.shape[0] != feature_width(features, len(surprise.command))
+            or surprise.precision.shape != (linear_width(features, len(surprise.command)) + 1,) * 2
+            or len(surprise.spread) != DESIGN
             or max(surprise.felt + surprise.command) >= features
             or memory is not None and (memory.weights.shape != (hidden + len(surprise.command) + 1, len(surprise.felt))
                                        or memory.scale.shape != surprise.scale.shape)):

@@ -15,7 +15,7 @@ import numpy as np
 
 from softarm.arm.drive import HELD_OUT_SEED_BASE
 from softarm.config import Config, TrainConfig
-from softarm.corpus.manifest import MIN_CORPUS
+from softarm.corpus.manifest import MIN_CORPUS, motion_group
 from softarm.errors import RecordingError
 from softarm.files import fingerprint
 from softarm.interrupt import Stopped
@@ -39,6 +39,7 @@ class RunData:
     positions: Optional[np.ndarray] = None  # (T, N, 2) float32 node positions (m), where the recording has them
     seen: Optional[np.ndarray] = None  # (T,) bool: frames the camera has (None: all); gaps train and score nothing
     calm: Optional[np.ndarray] = None  # (T,) bool: no disturbance acts (None: none ever does)
+    group: str = ""             # its corpus's motion group ("": none listed it)
 
     def segment(self, name: str) -> tuple[int, int]:
         b0, b1 = self.bounds
@@ -143,7 +144,7 @@ def load_dataset(paths: Sequence[Union[str, Path]], config: Config, channels: Se
                       bounds=(0, bounds[1]) if validation else bounds, held_out=validation,
                       positions=None if rec.positions is None else rec.positions.astype(np.float32),
                       seen=rec.seen if not rec.seen.all() else None,
-                      calm=~rec.active.any(axis=1) if rec.active.any() else None)
+                      calm=~rec.active.any(axis=1) if rec.active.any() else None, group=motion_group(path))
         shape = recording_shape(rec.model, channels, config)
         if first is None:
             first = (path.name, shape)

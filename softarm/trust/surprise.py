@@ -1,25 +1,30 @@
-"""Surprise: what the body felt that its own command did not predict.
+"""Surprise: what the body felt that its own command did not predict, told apart from what is merely new.
 
-The forward model is the arm's expectation of its own feeling: a linear map from the last `LAGS` samples of
-every input channel and the command of the next sample (the efference copy: the robot knows what it told its
-motor) to the stretch it expects to feel next. Linear on purpose: the body's mechanics are close to linear over
-one 10 ms step, so the map extrapolates to motions the corpus never showed, where a map from the latent model's
-state (trained to draw the body, not to predict the stretch) erred by hundreds of its spreads.
+The forward model is the arm's expectation of its own feeling: a map from the last `LAGS` samples of every input
+channel and the command of the next sample (the efference copy: the robot knows what it told its motor) to the
+stretch it expects to feel next. Linear in those, plus the products of the newest sample and its first difference
+(`quadratic`): the body's mechanics are close to linear over one 10 ms step, and the sensors' geometry and a
+softened spring bend them by a product, not more, so the map still extrapolates to motions the corpus never showed.
 
-How far a felt sample may stray depends on how the arm is moving: a prediction is sharper while the arm hangs
-still than while it whips at a resonance. So each residual is divided by the spread the forward model expects
-for it, a log-linear map (`spread`) from the arm's recent vigour (exponential averages of the squared first and
-second differences of the stretch and of the command's second differences over `WINDOWS` samples, known before
-the sample): the surprise is the mean over sensors of the squared residual in units of each sensor's residual
-spread, divided by that expectation and smoothed over `SMOOTHING` samples. About 1 while the world leaves the
-arm alone; an alarm fires while it exceeds a threshold set for a false-alarm rate on undisturbed motion.
+How far a felt sample may stray depends on how the arm is moving and on how new the motion is: a prediction is
+sharper while the arm hangs still than while it whips at a resonance, and sharper on motions like those it was
+fitted on than on one it never saw. So each residual is divided by the spread it is expected to have, a
+log-linear map (`spread`) from the arm's recent vigour (exponential averages of the squared first and second
+differences of the stretch and of the command's second differences over `WINDOWS` samples, known before the
+sample) and from the motion's novelty (the Mahalanobis length of the forward model's linear features under the
+ones it was fitted on, `novelty`). The map, each sensor's spread and the alarm's threshold are fitted out of fold:
+each motion group of the corpus is judged by a forward model fitted without it (`softarm.trust.surprise_fit`), so
+they learn how much a new motion costs the prediction, and a push still stands out (the motion before it is
+ordinary). The surprise is the mean over sensors of the squared residual in units of each sensor's spread, divided
+by that expectation and smoothed over `SMOOTHING` samples: about 1 while the world leaves the arm alone; the
+alarm fires while it exceeds the threshold.
 
 Sensors noisier than those the model was fitted on (`heard_through`) would make every sample surprising. Their
 white noise (and quantisation) is known, so its share is expected too: the residual's extra variance through the
-forward model's weights is added to the expectation, and the noise's share of the vigour averages is taken off
-them before they predict it.
+forward model's weights (and, to first order, its products) is added to the expectation, the products' bias is
+taken off the prediction, and the noise's share of the vigour averages and of the novelty is taken off them.
 
-NumPy only: the streamer's surprise costs two small matrix-vector products per sample.
+NumPy only: the streamer's surprise costs a few small matrix-vector products per sample.
 """
 
 from dataclasses import dataclass, field, replace
@@ -29,18 +34,40 @@ import numpy as np
 
 from softarm.trust.memory_check import MemoryCheck
 
+KIND = "novelty"     # the checkpoint's name for this surprise (earlier ones are refitted, not read)
 LAGS = 10            # samples of every input channel the forward model reads (100 ms at the default rate)
 WINDOWS = (5.0, 50.0)  # samples: time constants of the vigour averages
 SMOOTHING = 3.0      # samples: the surprise's exponential average (30 ms at the default rate)
 FLOOR = 1e-6         # added to the vigour averages before their logarithm (normalised units squared)
+NOVELTY_FLOOR = 1e-3  # added to the squared Mahalanobis length before its logarithm
 VIGOURS = 3          # signals averaged per window: stretch's 2nd and 1st differences, command's 2nd difference
+DESIGN = VIGOURS * len(WINDOWS) + 2  # the spread map's inputs: the log vigours, the log novelty, 1
+
+
+def linear_width(channels: int, commands: int) -> int:
+    """Columns of the forward model's linear features: LAGS samples of every channel, the next command."""
+    return LAGS * channels + commands
+
+
+def quadratic_width(channels: int) -> int:
+    """Columns of its products: every pair (with itself) of the newest sample's channels and their differences."""
+    return 2 * channels * (2 * channels + 1) // 2
+
+
+def feature_width(channels: int, commands: int) -> int:
+    return linear_width(channels, commands) + quadratic_width(channels) + 1
+
+
+def _pairs(channels: int) -> tuple[np.ndarray, np.ndarray]:
+    return np.triu_indices(2 * channels)
 
 
 @dataclass(frozen=True)
 class SurpriseModel:
-    weights: np.ndarray    # (LAGS * F + C + 1, P): [inputs k, k - 1, ..., command k + 1, 1] -> stretch k + 1
-    scale: np.ndarray      # (P,) each sensor's residual spread on undisturbed motion (normalised units)
-    spread: np.ndarray     # (VIGOURS * len(WINDOWS) + 1,) log expected squared residual from the vigour after k
+    weights: np.ndarray    # (feature_width, P): [inputs k, ..., k - LAGS + 1, command k + 1, products, 1] -> k + 1
+    scale: np.ndarray      # (P,) each sensor's out-of-fold residual spread on undisturbed motion (normalised units)
+    spread: np.ndarray     # (DESIGN,) log expected squared residual from [log vigours after k, log novelty, 1]
+    precision: np.ndarray  # (linear_width + 1,)^2: inverse second moment of [linear features, 1] it was fitted on
     threshold: float       # the alarm fires while the surprise exceeds it
     felt: tuple[int, ...]     # the columns of the normalised inputs that are felt (the stretch)
     command: tuple[int, ...]  # the columns that are the command, known one sample ahead
@@ -53,15 +80,9 @@ class SurpriseModel:
         return replace(self, noise=np.asarray(variance, np.float64))
 
     @property
-    def noise_floor(self) -> float:
-        """The mean over sensors of the squared residual the extra noise adds, in units of each sensor's spread:
-        the felt sample's own noise and that of every lagged felt input through its weight."""
-        if not self.noise.size:
-            return 0.0
-        width = (self.weights.shape[0] - len(self.command) - 1) // LAGS
-        rows = [lag * width + c for lag in range(LAGS) for c in self.felt]
-        added = self.noise + np.tile(self.noise, LAGS) @ self.weights[rows] ** 2
-        return float((added / self.scale ** 2).mean())
+    def channels(self) -> int:
+        """F, the input channels, from the linear features' count (the precision's side less the constant)."""
+        return (self.precision.shape[0] - 1 - len(self.command)) // LAGS
 
     @property
     def inflation(self) -> np.ndarray:
@@ -70,23 +91,107 @@ class SurpriseModel:
         mean = float(self.noise.mean()) if self.noise.size else 0.0
         return np.array([6.0 * mean, 2.0 * mean, 0.0])
 
+    @property
+    def novelty_inflation(self) -> float:
+        """What the extra noise adds to the squared Mahalanobis length on average: its variance on every lagged
+        felt entry through the precision's diagonal, over the linear features' count."""
+        if not self.noise.size:
+            return 0.0
+        f = self.channels
+        rows = [lag * f + c for lag in range(LAGS) for c in self.felt]
+        return float(np.tile(self.noise, LAGS) @ np.diag(self.precision)[rows]) / (self.precision.shape[0] - 1)
+
     def features(self, inputs: np.ndarray) -> np.ndarray:
-        """(T - LAGS, LAGS * F + C + 1): what predicts each sample from LAGS on, from a normalised series (T, F)."""
+        """(T - LAGS, feature_width): what predicts each sample from LAGS on, from a normalised series (T, F)."""
         t = len(inputs)
         lagged = [inputs[LAGS - 1 - j:t - 1 - j] for j in range(LAGS)]
-        return np.concatenate([*lagged, inputs[LAGS:, list(self.command)], np.ones((t - LAGS, 1))], axis=1)
+        z = np.concatenate([inputs[LAGS - 1:t - 1], inputs[LAGS - 1:t - 1] - inputs[LAGS - 2:t - 2]], axis=1)
+        a, b = _pairs(inputs.shape[1])
+        return np.concatenate([*lagged, inputs[LAGS:, list(self.command)], z[:, a] * z[:, b],
+                               np.ones((t - LAGS, 1))], axis=1)
+
+    def linear(self, features: np.ndarray) -> np.ndarray:
+        """[linear features, 1] of feature rows: what the novelty measures."""
+        return np.concatenate([features[:, :self.precision.shape[0] - 1], features[:, -1:]], axis=1)
+
+    def novelty(self, features: np.ndarray) -> np.ndarray:
+        """(n,) log of the squared Mahalanobis length of each row's linear features per feature (about 1 on the
+        motion it was fitted on), less the extra noise's share."""
+        x = self.linear(features)
+        d2 = np.einsum("ij,jk,ik->i", x, self.precision, x) / x.shape[1] - self.novelty_inflation
+        return np.log(np.maximum(d2, 0.0) + NOVELTY_FLOOR)
+
+    def predicted(self, features: np.ndarray) -> np.ndarray:
+        """(n, P) the expected felt sample of each row, less the products' bias from the extra noise."""
+        out = features @ self.weights
+        if self.noise.size and self.noise.any():
+            out -= self._noise_covariance()[_pairs(self.channels)] @ self.weights[self._products]
+        return out
+
+    @property
+    def _products(self) -> slice:
+        start = self.precision.shape[0] - 1
+        return slice(start, self.weights.shape[0] - 1)
+
+    def _noise_covariance(self) -> np.ndarray:
+        """(2F, 2F) the extra noise's covariance over the newest sample and its first difference."""
+        f = self.channels
+        var = np.zeros(f)
+        var[list(self.felt)] = self.noise
+        cov = np.zeros((2 * f, 2 * f))
+        cov[:f, :f] = cov[:f, f:] = cov[f:, :f] = np.diag(var)
+        cov[f:, f:] = 2.0 * np.diag(var)
+        return cov
+
+    def noise_floor(self, features: np.ndarray) -> np.ndarray:
+        """(n,) the mean over sensors of the squared residual the extra noise adds, in units of each sensor's
+        spread, to first order: the felt sample's own noise, and every lagged felt input's through the weights
+        and (for the newest two samples) the products' gradient at that row."""
+        if not self.noise.size or not self.noise.any():
+            return np.zeros(len(features))
+        f, felt, w, noise = self.channels, list(self.felt), self.weights, self.noise
+        z = np.concatenate([features[:, :f], features[:, :f] - features[:, f:2 * f]], axis=1)  # (n, 2F)
+        grad = np.einsum("nj,mjp->nmp", z, self._gradient_map())  # d prediction / d z, (n, 2F, P)
+        newest = w[None, :f] + grad[:, :f] + grad[:, f:]  # through sample k: itself and its difference
+        before = w[None, f:2 * f] - grad[:, f:]           # through sample k - 1: its difference
+        rows = [lag * f + c for lag in range(2, LAGS) for c in felt]
+        older = np.tile(noise, LAGS - 2) @ w[rows] ** 2
+        added = (noise + older + np.einsum("c,ncp->np", noise, newest[:, felt] ** 2)
+                 + np.einsum("c,ncp->np", noise, before[:, felt] ** 2))
+        return (added / self.scale ** 2).mean(axis=1)
+
+    def _gradient_map(self) -> np.ndarray:
+        """(2F, 2F, P): the products' gradient is this map applied to z (d(z_a z_b) = z_b dz_a + z_a dz_b)."""
+        f = self.channels
+        a, b = _pairs(f)
+        q = self.weights[self._products]
+        out = np.zeros((2 * f, 2 * f, q.shape[1]))
+        np.add.at(out, (a, b), q)
+        np.add.at(out, (b, a), q)
+        return out
 
     def residuals(self, inputs: np.ndarray) -> np.ndarray:
         """(T, P) each felt sample's residual in units of its sensor's spread; NaN for the first LAGS."""
         out = np.full((len(inputs), len(self.felt)), np.nan)
         if len(inputs) > LAGS:
-            out[LAGS:] = (inputs[LAGS:, list(self.felt)] - self.features(inputs) @ self.weights) / self.scale
+            out[LAGS:] = (inputs[LAGS:, list(self.felt)] - self.predicted(self.features(inputs))) / self.scale
+        return out
+
+    def design(self, inputs: np.ndarray) -> np.ndarray:
+        """(T, DESIGN) what the spread map reads before each sample: the log vigour after the sample before it,
+        the log novelty of its features, 1; NaN for the first LAGS."""
+        out = np.full((len(inputs), DESIGN), np.nan)
+        if len(inputs) > LAGS:
+            out[LAGS:, :-2] = vigour(inputs, self.felt, self.command, self.inflation)[LAGS - 1:-1, :-1]
+            out[LAGS:, -2] = self.novelty(self.features(inputs))
+            out[LAGS:, -1] = 1.0
         return out
 
     def expected(self, inputs: np.ndarray) -> np.ndarray:
-        """(T,) the squared residual the vigour before each sample leads to expect; NaN for the first."""
-        out = np.full(len(inputs), np.nan)
-        out[1:] = np.exp(vigour(inputs, self.felt, self.command, self.inflation)[:-1] @ self.spread) + self.noise_floor
+        """(T,) the squared residual expected of each sample; NaN for the first LAGS."""
+        out = np.exp(self.design(inputs) @ self.spread)
+        if len(inputs) > LAGS:
+            out[LAGS:] += self.noise_floor(self.features(inputs))
         return out
 
     def series(self, inputs: np.ndarray, states: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
@@ -102,9 +207,10 @@ class SurpriseModel:
         return SurpriseReader(self)
 
     def to_state(self) -> dict[str, Any]:
-        return {"kind": "lagged", "lags": LAGS, "windows": list(WINDOWS), "smoothing": SMOOTHING,
+        return {"kind": KIND, "lags": LAGS, "windows": list(WINDOWS), "smoothing": SMOOTHING,
                 "weights": self.weights.tolist(), "scale": self.scale.tolist(), "spread": self.spread.tolist(),
-                "threshold": self.threshold, "felt": list(self.felt), "command": list(self.command),
+                "precision": self.precision.tolist(), "threshold": self.threshold, "felt": list(self.felt),
+                "command": list(self.command),
                 **({"memory": self.memory.to_state()} if self.memory is not None else {})}
 
     @classmethod
@@ -112,14 +218,15 @@ class SurpriseModel:
         felt, command = tuple(int(i) for i in state["felt"]), tuple(int(i) for i in state["command"])
         memory = MemoryCheck.from_state(state["memory"], felt, command) if state.get("memory") else None
         return cls(np.asarray(state["weights"], np.float64), np.asarray(state["scale"], np.float64),
-                   np.asarray(state["spread"], np.float64), float(state["threshold"]), felt, command, memory)
+                   np.asarray(state["spread"], np.float64), np.asarray(state["precision"], np.float64),
+                   float(state["threshold"]), felt, command, memory)
 
     @staticmethod
     def current(state: dict[str, Any]) -> bool:
-        """Whether a checkpoint's surprise state is this softarm's kind (earlier ones read the latent state)."""
+        """Whether a checkpoint's surprise state is this softarm's kind (earlier ones knew no novelty)."""
         settings = [state.get(key) for key in ("kind", "lags", "windows", "smoothing")]
         plain = all(isinstance(value, (str, int, float, list)) for value in settings)
-        return plain and settings == ["lagged", LAGS, list(WINDOWS), SMOOTHING]
+        return plain and settings == [KIND, LAGS, list(WINDOWS), SMOOTHING]
 
 
 FIRST = np.array([2, 1, 2])  # the first sample at which each vigour signal is defined
@@ -177,20 +284,22 @@ def smoothed(values: np.ndarray) -> np.ndarray:
 
 
 class SurpriseReader:
-    """The surprise sample by sample, in preallocated arrays (a robot's loop calls it every 10 ms): the last LAGS
-    samples as the forward model's features, the vigour averages, the latent model's last state and the two
-    smoothed values."""
+    """The surprise sample by sample (a robot's loop calls it every 10 ms): the last LAGS samples, from which the
+    forward model's features are built as the batch builds them, the vigour averages, the latent model's last
+    state and the two smoothed values."""
 
     def __init__(self, model: SurpriseModel):
         self.model = model
         self.felt, self.command = np.array(model.felt, int), np.array(model.command, int)
-        self.width = (model.weights.shape[0] - len(model.command) - 1) // LAGS  # input channels F
-        self.features = np.zeros(model.weights.shape[0])  # [sample k, k - 1, ..., k - LAGS + 1, command, 1]
-        self.features[-1] = 1.0
-        self.vigour = np.ones(VIGOURS * len(WINDOWS) + 1)
+        self.history = np.zeros((LAGS + 1, model.channels))  # the last LAGS samples, then room for the new one
+        self.row = np.ones((1, model.weights.shape[0]))  # the forward model's features, as `features` lays them out
+        self.pairs = _pairs(model.channels)
+        self.linear = np.r_[np.arange(model.precision.shape[0] - 1), model.weights.shape[0] - 1]
+        self.novelty_shift = model.novelty_inflation
+        self.design = np.ones(DESIGN)
         self.averages = np.full((len(WINDOWS), VIGOURS), np.nan)  # NaN until each signal is defined
         self.rates = 1.0 / np.asarray(WINDOWS)[:, None]
-        self.inflation, self.floor = model.inflation, model.noise_floor
+        self.inflation = model.inflation
         self.seen = 0
         self.state: Optional[np.ndarray] = None
         self.levels = [float("nan"), float("nan")]  # the surprise's and the memory check's averages
@@ -198,14 +307,18 @@ class SurpriseReader:
     def step(self, inputs: np.ndarray, state: Optional[np.ndarray] = None) -> tuple[float, float]:
         """The surprise and the memory check (`SurpriseModel.series`) after this normalised sample (F,), given the
         latent model's state after it (H,; None where it has none or the model no memory check)."""
-        m, x, width = self.model, self.features, self.width
+        m, history = self.model, self.history
+        history[-1] = inputs
         values = [float("nan"), float("nan")]
         if self.seen >= LAGS:
-            x[LAGS * width:-1] = inputs[self.command]
-            residual = (inputs[self.felt] - x @ m.weights) / m.scale
-            self.vigour[:-1] = np.log(np.maximum(self.averages - self.inflation, 0.0).ravel() + FLOOR)
+            row = self.features()
+            residual = (inputs[self.felt] - m.predicted(row)[0]) / m.scale
+            self.design[:-2] = np.log(np.maximum(self.averages - self.inflation, 0.0).ravel() + FLOOR)
+            x = row[0, self.linear]
+            length = float(x @ m.precision @ x) / len(x) - self.novelty_shift
+            self.design[-2] = np.log(max(length, 0.0) + NOVELTY_FLOOR)  # `SurpriseModel.novelty`
             values[0] = (float(residual @ residual) / len(residual)
-                         / (float(np.exp(self.vigour @ m.spread)) + self.floor))
+                         / (float(np.exp(self.design @ m.spread)) + float(m.noise_floor(row)[0])))
         if m.memory is not None and self.state is not None and np.isfinite(self.state).all():
             values[1] = m.memory.step(self.state, inputs)
         for i, value in enumerate(values):
@@ -213,10 +326,9 @@ class SurpriseReader:
                 level = self.levels[i]
                 self.levels[i] = value if level != level else level + (value - level) / SMOOTHING
         self.state = state
-        x[width:LAGS * width] = x[:(LAGS - 1) * width].copy()
-        x[:width] = inputs
         self.seen += 1
         signals = self.signals()
+        history[:-1] = history[1:].copy()
         if self.seen > 3:  # every signal defined: the averages' step in place
             self.averages *= 1.0 - self.rates
             self.averages += self.rates * signals
@@ -225,11 +337,20 @@ class SurpriseReader:
                                      + self.rates * signals)
         return self.levels[0], self.levels[1]
 
+    def features(self) -> np.ndarray:
+        """(1, feature_width) `SurpriseModel.features` of the newest sample from the history, laid out in place."""
+        history, row, f = self.history, self.row[0], self.model.channels
+        lagged = LAGS * f
+        row[:lagged] = history[LAGS - 1::-1].ravel()
+        row[lagged:lagged + len(self.command)] = history[LAGS, self.command]
+        z = np.concatenate([history[LAGS - 1], history[LAGS - 1] - history[LAGS - 2]])
+        row[lagged + len(self.command):-1] = z[self.pairs[0]] * z[self.pairs[1]]
+        return self.row
+
     def signals(self) -> np.ndarray:
-        """`vigour_signals` of the newest sample, from the last three held in the features."""
-        x, w = self.features, self.width
+        """`vigour_signals` of the newest sample, from the last three held."""
         out = np.full(VIGOURS, np.nan)
-        newest, before, earlier = x[:w], x[w:2 * w], x[2 * w:3 * w]
+        newest, before, earlier = self.history[-1], self.history[-2], self.history[-3]
         if self.seen >= 2:
             first = newest[self.felt] - before[self.felt]
             out[1] = first @ first / len(first)

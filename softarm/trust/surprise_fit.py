@@ -1,49 +1,70 @@
 """The surprise's forward model, its expected spread and the memory check, fitted once the latent model is trained
-(docs/model.md, Surprise), from parts of normalised inputs (and the latent model's states) with their undisturbed
-samples marked (`softarm.learn.trust_fits` gathers them from the training).
+(docs/model.md, Surprise), from pieces of normalised inputs with their undisturbed samples marked and their motion
+group named (`softarm.learn.trust_fits` gathers them from the training).
 
-The fitting parts fit the forward model, the spread it expects from the arm's vigour and the memory check; the
-held-out motion sets each sensor's residual spreads and the alarm's threshold. Samples near a disturbance are
-left out of all of them: the model learns what undisturbed motion feels like.
+A surprise that only knew the motions it was fitted on would cry wolf on the first new one. So everything after
+the forward model is fitted out of fold: each fold (a motion group of the corpus) is judged by a forward model
+fitted on the others' training samples, and its residuals, set against its vigour and its novelty under that
+model, fit each sensor's spread, the spread map and the alarm's threshold. The forward model the checkpoint keeps
+is fitted on every fold. Samples near a disturbance are left out of all of it: the model learns what undisturbed
+motion feels like.
 """
 
-from dataclasses import replace
-from typing import Optional, Sequence
+from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
 from softarm.trust.alarm import alarm_threshold
 from softarm.trust.memory_check import MemoryCheck
-from softarm.trust.surprise import LAGS, VIGOURS, WINDOWS, SurpriseModel, vigour
+from softarm.trust.surprise import DESIGN, LAGS, WINDOWS, SurpriseModel, feature_width, linear_width, smoothed
 
 RIDGE = 1e-8          # the forward model's L2 penalty, relative to its mean squared feature
+PRECISION_RIDGE = 1e-6  # added to the linear features' second moment before it is inverted, relative to its trace
 MEMORY_RIDGE = 1e-4   # the memory check's, the same way
 SPREAD_RIDGE = 1e-6   # the spread map's L2 penalty per sample
 SPREAD_FLOOR = 1e-3   # added to a squared residual before its logarithm
 
-Part = tuple[np.ndarray, np.ndarray]  # normalised inputs (T, F), undisturbed (T,) bool
+
+class Piece(NamedTuple):
+    """A stretch of one recording for the surprise's fit."""
+    inputs: np.ndarray    # (T, F) normalised
+    calm: np.ndarray      # (T,) bool: nothing acts on the arm
+    fitting: np.ndarray   # (T,) bool: samples the forward model may be fitted to (the training segment)
+    fold: str             # its motion group: judged by the forward model fitted without it
 
 
-def fit_surprise(parts: Sequence[Part], felt: Sequence[int], command: Sequence[int], calibration: Sequence[Part],
-                 frame_dt: float, false_alarms_per_minute: float) -> SurpriseModel:
-    """The forward model by ridge regression on `parts`, each sensor's residual spread on `calibration` (held-out
-    motion where there is some, else the same), the spread map on `parts` again, and the alarm's threshold on
-    `calibration`."""
+def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence[int], frame_dt: float,
+                 false_alarms_per_minute: float) -> SurpriseModel:
+    """The forward model by ridge regression on every fold's fitting samples; each sensor's spread, the spread
+    map and the alarm's threshold from every piece judged out of fold. At least two folds."""
     felt, command = tuple(felt), tuple(command)
-    blank = np.zeros(VIGOURS * len(WINDOWS) + 1)
-    probe = SurpriseModel(np.zeros(0), np.ones(len(felt)), blank, 0.0, felt, command)
-    weights = _ridge([(probe.features(x), x[LAGS:, list(felt)], _quiet(c)) for x, c in parts], RIDGE, unshrunk=-1)
-    unscaled = SurpriseModel(weights, np.ones(len(felt)), blank, 0.0, felt, command)
-    errors = np.concatenate([unscaled.residuals(x)[_quiet(c, pad=True)] for x, c in calibration])
-    scale = np.maximum(np.sqrt(np.mean(errors ** 2, axis=0)), 1e-12)
-    scaled = SurpriseModel(weights, scale, blank, 0.0, felt, command)
-    spread = _ridge([(vigour(x, felt, command)[LAGS - 1:-1],
-                      np.log((scaled.residuals(x)[LAGS:] ** 2).mean(axis=1) + SPREAD_FLOOR)[:, None],
-                      _quiet(c) & (np.arange(LAGS, len(x)) >= max(WINDOWS))) for x, c in parts], SPREAD_RIDGE)[:, 0]
-    spread[-1] += np.log(np.nanmean(np.concatenate([_ratio(replace(scaled, spread=spread), x, c) for x, c in parts])))
-    model = SurpriseModel(weights, scale, spread, 0.0, felt, command)
-    threshold = alarm_threshold([(model.series(x)[0], c) for x, c in calibration], frame_dt, false_alarms_per_minute)
-    return SurpriseModel(weights, scale, spread, threshold, felt, command)
+    folds = sorted({p.fold for p in pieces})
+    if len(folds) < 2:
+        raise ValueError("the surprise is fitted out of fold: give pieces of at least two folds")
+    channels = pieces[0].inputs.shape[1]
+    linear = linear_width(channels, len(command))
+    probe = _model(np.zeros((feature_width(channels, len(command)), len(felt))), np.eye(linear + 1), felt, command)
+    sums = {fold: _Sums() for fold in folds}
+    for piece in pieces:
+        keep = _quiet(piece.calm) & piece.fitting[LAGS:]
+        sums[piece.fold].add(probe.features(piece.inputs), piece.inputs[LAGS:, list(felt)], keep)
+    judged = []  # per piece: unscaled residuals (T, P), the spread map's inputs (T, DESIGN), quiet (T,)
+    for fold in folds:
+        model = _model(*_solve([sums[f] for f in folds if f != fold], linear), felt, command)
+        for piece in (p for p in pieces if p.fold == fold):
+            judged.append((model.residuals(piece.inputs), model.design(piece.inputs), _quiet(piece.calm, pad=True),
+                           piece.calm))
+    scale = np.maximum(np.sqrt(np.nanmean(np.concatenate([e[q] for e, _, q, _ in judged]) ** 2, axis=0)), 1e-12)
+    squared = [((e / scale) ** 2).mean(axis=1) for e, _, _, _ in judged]
+    settled = [q & (np.arange(len(q)) >= LAGS + max(WINDOWS)) for _, _, q, _ in judged]
+    spread = _ridge([(d, np.log(s + SPREAD_FLOOR)[:, None], k) for (_, d, _, _), s, k in zip(judged, squared, settled)],
+                    SPREAD_RIDGE)[:, 0]
+    ratio = np.concatenate([(s / np.exp(d @ spread))[q] for (_, d, q, _), s in zip(judged, squared)])
+    spread[-1] += np.log(np.nanmean(ratio))
+    series = [(smoothed(s / np.exp(d @ spread)), calm) for (_, d, _, calm), s in zip(judged, squared)]
+    threshold = alarm_threshold(series, frame_dt, false_alarms_per_minute)
+    weights, precision = _solve(list(sums.values()), linear)
+    return SurpriseModel(weights, scale, spread, precision, threshold, felt, command)
 
 
 def fit_memory_check(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], felt: Sequence[int],
@@ -63,10 +84,42 @@ def fit_memory_check(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
     return MemoryCheck(weights, scale, tuple(felt), tuple(command))
 
 
-def _ratio(model: SurpriseModel, inputs: np.ndarray, calm: np.ndarray) -> np.ndarray:
-    """Each quiet sample's mean squared residual over what the model expected: the log-linear fit estimates the
-    expected logarithm, so its constant is moved until these average 1 (the surprise's scale)."""
-    return ((model.residuals(inputs) ** 2).mean(axis=1) / model.expected(inputs))[_quiet(calm, pad=True)]
+class _Sums:
+    """A fold's sums for the forward model's ridge regression, so that no two folds' rows sit in memory together."""
+
+    def __init__(self) -> None:
+        self.xtx, self.xty, self.rows, self.squares = 0.0, 0.0, 0, 0.0
+
+    def add(self, x: np.ndarray, y: np.ndarray, keep: np.ndarray) -> None:
+        keep = keep & np.isfinite(x).all(axis=1) & np.isfinite(y).all(axis=1)
+        x, y = x[keep], y[keep]
+        self.xtx, self.xty = self.xtx + x.T @ x, self.xty + x.T @ y
+        self.rows, self.squares = self.rows + len(x), self.squares + float((x ** 2).sum())
+
+
+def _solve(sums: Sequence[_Sums], linear: int) -> tuple[np.ndarray, np.ndarray]:
+    """The forward model's weights (the penalty relative to the mean squared feature, the constant unshrunk) and
+    the precision of its `linear` first features with the constant (the inverse of their second moment, lightly
+    regularised), from the folds' sums."""
+    xtx = sum(s.xtx for s in sums)
+    xty = sum(s.xty for s in sums)
+    rows, squares = sum(s.rows for s in sums), sum(s.squares for s in sums)
+    if not rows:
+        raise ValueError("no undisturbed samples to fit the surprise's forward model on")
+    width = xtx.shape[0]
+    shrink = RIDGE * squares / width * np.eye(width)
+    shrink[-1, -1] = 0.0
+    weights = np.linalg.solve(xtx + shrink, xty)
+    kept = np.r_[np.arange(linear), width - 1]
+    moment = xtx[np.ix_(kept, kept)] / rows
+    moment += PRECISION_RIDGE * np.trace(moment) / len(kept) * np.eye(len(kept))
+    return weights, np.linalg.inv(moment)
+
+
+def _model(weights: np.ndarray, precision: np.ndarray, felt: tuple[int, ...], command: tuple[int, ...]
+           ) -> SurpriseModel:
+    """A forward model with unit spreads and no spread map: what judges a fold's residuals and features."""
+    return SurpriseModel(weights, np.ones(len(felt)), np.zeros(DESIGN), precision, 0.0, felt, command)
 
 
 def _quiet(calm: np.ndarray, pad: bool = False) -> np.ndarray:

@@ -50,7 +50,7 @@ def test_only_the_memory_models_remember_samples_older_than_the_window(recording
 @pytest.mark.slow
 def test_a_streamer_told_its_sensors_noise_equals_a_replay_told_the_same(recordings, tiny_checkpoint):
     """Through sensors with 50 um of white noise, replay's --sensor-noise and the streamer built with the same
-    noise give the same surprises and alarms; without being told, the same readings surprise it far more."""
+    noise give the same surprises and alarms; without being told, the same readings surprise it several times more."""
     noise = {"noise": 5e-5}
     replayed = compute_replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", nodes=False, sensor_noise=noise)
     stream = StreamingImaginer.from_checkpoint(tiny_checkpoint.checkpoint, sensor_noise=noise)
@@ -64,7 +64,7 @@ def test_a_streamer_told_its_sensors_noise_equals_a_replay_told_the_same(recordi
     np.testing.assert_allclose([told[k].surprise for k in frames], replayed.surprise[frames], rtol=1e-4, atol=1e-6)
     assert [told[k].alarm for k in frames] == list(replayed.alarm[frames])
     untold = TrainedModel(tiny_checkpoint.checkpoint).imaginer.predict(replayed.inputs)
-    assert np.nanmedian(untold.surprise) > 5 * np.nanmedian(replayed.surprise)
+    assert np.nanmedian(untold.surprise) > 2.5 * np.nanmedian(replayed.surprise)  # part of it read as novelty
 
 
 @pytest.mark.slow

@@ -5,7 +5,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from softarm.trust.surprise_fit import fit_memory_check, fit_surprise
+from softarm.trust.surprise_fit import Piece, fit_memory_check, fit_surprise
 
 MIX = np.array([[1.0, -0.5], [0.3, 0.2], [0.0, 1.0], [0.7, 0.0], [-0.2, 0.4]])
 
@@ -37,7 +37,8 @@ def test_the_memory_check_recovers_the_map_and_the_noise_spread_without_disturbe
 def test_the_reader_gives_the_batch_series_of_both():
     states, inputs = state_world(0, 2000)
     calm = np.ones(len(inputs), bool)
-    model = fit_surprise([(inputs, calm)], [0, 1], [2], [(inputs, calm)], 0.01, 1.0)
+    halves = [Piece(inputs[a:b], calm[a:b], calm[a:b], f"half {a}") for a, b in ((0, 1000), (1000, 2000))]
+    model = fit_surprise(halves, [0, 1], [2], 0.01, 1.0)
     model = replace(model, memory=fit_memory_check([(states, inputs, calm)], [0, 1], [2], [(states, inputs, calm)]))
     test_states, test_inputs = state_world(3, 400)
     reader = model.online()

@@ -1,21 +1,24 @@
 """The surprise's forward model against systems whose answer is known: a lagged linear map from past inputs and the
-next command to the felt signal, plus white noise of a known spread, steady or growing with the motion's vigour;
-and the streamer's reader against the batch series."""
+next command to the felt signal (and a product of the newest sample), plus white noise of a known spread, steady or
+growing with the motion's vigour; the novelty against its expectation; and the streamer's reader against the batch
+series."""
 
 import numpy as np
 import pytest
 
 from softarm.trust.alarm import alarm_onsets, alarm_threshold
-from softarm.trust.surprise import LAGS, SMOOTHING, smoothed, vigour_signals
-from softarm.trust.surprise_fit import fit_surprise
+from softarm.trust.surprise import LAGS, SMOOTHING, linear_width, smoothed, vigour_signals
+from softarm.trust.surprise_fit import Piece, fit_surprise
 
 DT = 0.01
 FELT, COMMAND = [0, 1], [2]
 
 
-def linear_world(seed: int, length: int = 6000, noise=0.1, command_scale=None):
+def linear_world(seed: int, length: int = 6000, noise=0.1, command_scale=None, product: float = 0.0,
+                 power: int = 2):
     """Inputs (T, 3): two felt columns made from the two samples before and the command now, one command column;
-    `noise` a spread or (T,) spreads, `command_scale` (T,) the command's size."""
+    `noise` a spread or (T,) spreads, `command_scale` (T,) the command's size; `product` times the sample before's
+    first felt column to the `power` added to the second."""
     rng = np.random.default_rng(seed)
     command = rng.standard_normal(length) * (1.0 if command_scale is None else command_scale)
     spread = np.broadcast_to(noise, (length,))
@@ -23,25 +26,40 @@ def linear_world(seed: int, length: int = 6000, noise=0.1, command_scale=None):
     for k in range(2, length):
         felt[k] = (felt[k - 1] @ [[0.5, 0.1], [-0.2, 0.3]] + felt[k - 2] @ [[-0.1, 0.0], [0.0, 0.2]]
                    + command[k - 1] * np.array([0.4, 0.0]) + command[k] * np.array([0.5, -1.0]) + 0.3
-                   + spread[k] * rng.standard_normal(2))
+                   + np.array([0.0, product * felt[k - 1, 0] ** power]) + spread[k] * rng.standard_normal(2))
     return np.column_stack([felt, command])
 
 
+def pieces(world, calm=None, fold: str = "world", blocks: int = 4, fitting: bool = True):
+    """A world in `blocks` stretches of time, each a fold of its own, as a lone recording is fitted."""
+    calm = np.ones(len(world), bool) if calm is None else calm
+    edges = [len(world) * i // blocks for i in range(blocks + 1)]
+    return [Piece(world[a:b], calm[a:b], np.full(b - a, fitting), f"{fold} {i}") for i, (a, b)
+            in enumerate(zip(edges, edges[1:]))]
+
+
 def fitted(*worlds, calibration=None, rate: float = 1.0):
-    parts = [(w, np.ones(len(w), bool)) for w in worlds]
-    calibration = parts if calibration is None else [(calibration, np.ones(len(calibration), bool))]
-    return fit_surprise(parts, FELT, COMMAND, calibration, DT, rate)
+    parts = [p for n, w in enumerate(worlds) for p in pieces(w, fold=f"world {n}")]
+    if calibration is not None:
+        parts += pieces(calibration, fold="held out", fitting=False)
+    return fit_surprise(parts, FELT, COMMAND, DT, rate)
+
+
+def world_map(world, product: float = 0.0):
+    """(T - LAGS, 2) what the world's map makes of each sample from LAGS on, without its noise."""
+    felt, command = world[:, :2], world[:, 2]
+    k = np.arange(LAGS, len(world))
+    return (felt[k - 1] @ [[0.5, 0.1], [-0.2, 0.3]] + felt[k - 2] @ [[-0.1, 0.0], [0.0, 0.2]]
+            + command[k - 1, None] * [0.4, 0.0] + command[k, None] * [0.5, -1.0] + 0.3
+            + np.column_stack([np.zeros(len(k)), product * felt[k - 1, 0] ** 2]))
 
 
 def test_the_forward_model_recovers_the_map_and_the_noise_spread():
     model = fitted(linear_world(0, 30000), calibration=linear_world(1))
-    w = model.weights  # rows: lag 0 (felt 0, felt 1, command), lag 1 (...), ..., the next command, 1
-    np.testing.assert_allclose(w[0:2], [[0.5, 0.1], [-0.2, 0.3]], atol=0.02)
-    np.testing.assert_allclose(w[3:5], [[-0.1, 0.0], [0.0, 0.2]], atol=0.02)
-    np.testing.assert_allclose(w[2], [0.4, 0.0], atol=0.02)
-    np.testing.assert_allclose(w[3 * LAGS], [0.5, -1.0], atol=0.02)
-    np.testing.assert_allclose(w[-1], [0.3, 0.3], atol=0.03)
-    np.testing.assert_allclose(w[6:3 * LAGS], 0.0, atol=0.03)  # nothing from further back
+    test = linear_world(6)
+    error = model.predicted(model.features(test)) - world_map(test)
+    assert np.sqrt(np.mean(error ** 2)) < 0.01 and np.abs(error).max() < 0.04  # the noise is 0.1
+    np.testing.assert_allclose(model.weights[3 * LAGS], [0.5, -1.0], atol=0.02)  # the next command's weight
     np.testing.assert_allclose(model.scale, [0.1, 0.1], rtol=0.05)
     surprise, memory = model.series(linear_world(2))
     assert np.isnan(surprise[LAGS - 1]) and np.isfinite(surprise[LAGS])
@@ -78,8 +96,8 @@ def test_disturbed_frames_are_left_out_of_the_fit():
     calm = np.ones(len(spoiled), bool)
     calm[2000:4000] = False
     clean = linear_world(1)
-    model = fit_surprise([(spoiled, calm)], FELT, COMMAND, [(clean, np.ones(len(clean), bool))], DT, 1.0)
-    np.testing.assert_allclose(model.weights[-1], [0.3, 0.3], atol=0.03)
+    model = fit_surprise([*pieces(spoiled, calm), *pieces(clean, fold="clean", fitting=False)], FELT, COMMAND, DT, 1.0)
+    assert np.sqrt(np.mean((model.predicted(model.features(clean)) - world_map(clean)) ** 2)) < 0.02
     np.testing.assert_allclose(model.scale, [0.1, 0.1], rtol=0.05)
 
 
@@ -125,20 +143,52 @@ def test_noise_the_model_is_told_of_is_expected_not_surprising():
     assert plain > 8.0 and abs(np.nanmean(surprise) - 1.0) < 0.15
     reader = told.online()
     np.testing.assert_allclose([reader.step(x)[0] for x in world[:800]], surprise[:800], rtol=1e-9)
-    assert model.heard_through(np.zeros(len(FELT))).noise_floor == 0.0
+    assert not model.heard_through(np.zeros(len(FELT))).noise_floor(model.features(world)).any()
 
 
 @pytest.mark.slow
 def test_the_noise_terms_match_what_noise_adds_to_the_residuals_and_the_vigour():
     """Monte Carlo: the extra mean squared residual (in spreads) and the vigour signals' extra mean, from the same
     motion read with and without 0.2 of white noise, against the model's closed forms."""
-    model = fitted(linear_world(0, 12000))
+    model = fitted(linear_world(0, 12000, product=0.3))
+    assert abs(model.weights[3 * LAGS + 1, 1] - 0.3) < 0.04  # the product is the first one: felt 0 squared
     told = model.heard_through(np.full(len(FELT), 0.2 ** 2))
-    clean = linear_world(5, 60000)
+    clean = linear_world(5, 60000, product=0.3)
     noisy = noisier(clean, 0.2, 8)
-    extra = (np.nanmean((model.residuals(noisy) ** 2).mean(axis=1))
+    extra = (np.nanmean((told.residuals(noisy) ** 2).mean(axis=1))
              - np.nanmean((model.residuals(clean) ** 2).mean(axis=1)))
-    assert abs(extra / told.noise_floor - 1.0) < 0.05
+    assert abs(extra / np.mean(told.noise_floor(told.features(noisy))) - 1.0) < 0.05
+    bias = np.nanmean(model.residuals(noisy), axis=0) - np.nanmean(model.residuals(clean), axis=0)
+    np.testing.assert_allclose(np.nanmean(told.residuals(noisy), axis=0) - np.nanmean(
+        model.residuals(clean), axis=0), 0.0, atol=0.02)  # the products' bias taken off the prediction
+    assert abs(bias[1]) > 0.05  # which, left on, is there
     added = np.nanmean(vigour_signals(noisy, model.felt, model.command), axis=0) - np.nanmean(
         vigour_signals(clean, model.felt, model.command), axis=0)
     np.testing.assert_allclose(added, told.inflation, rtol=0.05, atol=1e-3)
+
+
+def test_the_novelty_is_the_mahalanobis_length_per_feature_about_one_on_the_motion_fitted():
+    """The mean of x' M^-1 x over n features is 1 when M is the second moment of x: on the motion it was fitted on,
+    the squared length per feature averages 1; on a motion with a command three times as large, far more."""
+    model = fitted(linear_world(0, 30000))
+    same = model.features(linear_world(1, 30000))
+    larger = model.features(linear_world(2, 6000, command_scale=np.full(6000, 3.0)))
+    assert abs(np.mean(np.exp(model.novelty(same)) - 1e-3) - 1.0) < 0.05
+    assert np.mean(np.exp(model.novelty(larger))) > 4.0
+    assert model.precision.shape == (linear_width(3, 1) + 1,) * 2
+
+
+def test_the_threshold_is_set_out_of_fold_so_a_motion_no_fold_showed_stays_calm():
+    """A world with a cubic term the forward model cannot hold, in two folds of small commands and one of large:
+    the large fold, judged by the small folds' model, teaches the spread map what a new motion costs, and an
+    unseen motion in between stays calm at the shipped threshold, where a model of the small folds alone, that
+    never met a motion it did not know, raises alarm after alarm on it."""
+    def world(seed, size):
+        return linear_world(seed, 6000, product=0.02, power=3, command_scale=np.full(6000, size))
+
+    small, large, unseen = [world(0, 0.5), world(1, 0.5)], world(2, 1.5), world(9, 1.2)
+    spanning = fit_surprise([Piece(w, np.ones(len(w), bool), np.ones(len(w), bool), f"fold {n}")
+                             for n, w in enumerate([*small, large])], FELT, COMMAND, DT, 1.0)
+    narrow = fit_surprise([*pieces(small[0], fold="a"), *pieces(small[1], fold="b")], FELT, COMMAND, DT, 1.0)
+    assert len(alarm_onsets(spanning.series(unseen)[0], spanning.threshold)) <= 1  # a minute of motion
+    assert len(alarm_onsets(narrow.series(unseen)[0], narrow.threshold)) > 50
