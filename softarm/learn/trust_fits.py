@@ -43,10 +43,12 @@ def fit_calibration(state: TrainState) -> dict[str, Any]:
 
 
 def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
-    """None when the model reads no sensor (nothing felt to be surprised by). The surprise reads each recording up
-    to its imagination segment (kept for scoring the imagination), its forward model fits on the training
-    segments, and each motion fold is judged out of fold (`surprise_folds`). The memory check fits on the
-    training segments and takes its spreads from the held-out motion (test segments, validation recordings)."""
+    """None when the model reads no sensor (nothing felt to be surprised by) or the recordings hold too little
+    undisturbed motion to judge any of it out of fold (a disturbance acting throughout). The surprise reads each
+    recording up to its imagination segment (kept for scoring the imagination), its forward model fits on the
+    training segments, and each motion fold is judged out of fold (`surprise_folds`). The memory check fits on
+    the training segments and takes its spreads from the held-out motion (test segments, validation
+    recordings)."""
     data, t = state.data, state.config.train
     columns = np.cumsum([0, *data.widths])
     felt = [c for ch, a, b in zip(data.channels, columns, columns[1:]) if ch.felt for c in range(a, b)]
@@ -72,6 +74,8 @@ def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
                 into.append((states[a:b], inputs[a:b], calm[a:b]))
     model = fit_surprise(pieces, felt, command, float(np.median(np.diff(data.sequences[0].times))),
                          t.false_alarms_per_minute)
+    if model is None:
+        return None
     return replace(model, memory=fit_memory_check(fitting, felt, command, calibration or fitting))
 
 

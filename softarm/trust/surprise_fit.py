@@ -34,23 +34,23 @@ class Piece(NamedTuple):
 
 
 def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence[int], frame_dt: float,
-                 false_alarms_per_minute: float) -> SurpriseModel:
+                 false_alarms_per_minute: float) -> Optional[SurpriseModel]:
     """The forward model by ridge regression on every fold's fitting samples; each sensor's spread, the spread
-    map and the alarm's threshold from every piece judged out of fold. At least two folds."""
+    map and the alarm's threshold from every piece judged out of fold. None where fewer than two folds hold
+    undisturbed samples to fit: nothing could be judged out of fold."""
     felt, command = tuple(felt), tuple(command)
-    folds = sorted({p.fold for p in pieces})
-    if len(folds) < 2:
-        raise ValueError("the surprise is fitted out of fold: give pieces of at least two folds")
     channels = pieces[0].inputs.shape[1]
     linear = linear_width(channels, len(command))
     probe = _model(np.zeros((feature_width(channels, len(command)), len(felt))), np.eye(linear + 1), felt, command)
-    sums = {fold: _Sums() for fold in folds}
+    sums = {fold: _Sums() for fold in sorted({p.fold for p in pieces})}
     for piece in pieces:
         keep = _quiet(piece.calm) & piece.fitting[LAGS:]
         sums[piece.fold].add(probe.features(piece.inputs), piece.inputs[LAGS:, list(felt)], keep)
-    judged = []  # per piece: unscaled residuals (T, P), the spread map's inputs (T, DESIGN), quiet (T,)
-    for fold in folds:
-        model = _model(*_solve([sums[f] for f in folds if f != fold], linear), felt, command)
+    if sum(s.rows > 0 for s in sums.values()) < 2:
+        return None
+    judged = []  # per piece: unscaled residuals (T, P), the spread map's inputs (T, DESIGN), quiet (T,), calm (T,)
+    for fold in sums:
+        model = _model(*_solve([s for f, s in sums.items() if f != fold], linear), felt, command)
         for piece in (p for p in pieces if p.fold == fold):
             judged.append((model.residuals(piece.inputs), model.design(piece.inputs), _quiet(piece.calm, pad=True),
                            piece.calm))
@@ -104,8 +104,6 @@ def _solve(sums: Sequence[_Sums], linear: int) -> tuple[np.ndarray, np.ndarray]:
     xtx = sum(s.xtx for s in sums)
     xty = sum(s.xty for s in sums)
     rows, squares = sum(s.rows for s in sums), sum(s.squares for s in sums)
-    if not rows:
-        raise ValueError("no undisturbed samples to fit the surprise's forward model on")
     width = xtx.shape[0]
     shrink = RIDGE * squares / width * np.eye(width)
     shrink[-1, -1] = 0.0

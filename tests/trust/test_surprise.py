@@ -101,6 +101,16 @@ def test_disturbed_frames_are_left_out_of_the_fit():
     np.testing.assert_allclose(model.scale, [0.1, 0.1], rtol=0.05)
 
 
+def test_without_two_folds_of_undisturbed_motion_there_is_no_surprise_to_fit():
+    """Out of fold needs two folds to fit on: one disturbed throughout leaves the others to judge it; with one
+    left, nothing can be judged, and the checkpoint goes without a surprise rather than a made-up one."""
+    world = linear_world(0)
+    disturbed = np.zeros(len(world), bool)
+    parts = [*pieces(world, fold="calm", blocks=2), Piece(world, disturbed, np.ones(len(world), bool), "disturbed")]
+    assert fit_surprise(parts, FELT, COMMAND, DT, 1.0) is not None
+    assert fit_surprise([*pieces(world, fold="calm", blocks=1), parts[-1]], FELT, COMMAND, DT, 1.0) is None
+
+
 def test_the_threshold_keeps_false_alarms_within_the_rate():
     rng = np.random.default_rng(5)
     series = [(smoothed(rng.chisquare(2, 6000) / 2), np.ones(6000, bool)) for _ in range(10)]  # 10 minutes
