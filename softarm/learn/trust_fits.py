@@ -60,8 +60,8 @@ def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
         read = state.inputs.normalise(seq.inputs).astype(np.float32)  # as the model reads them
         states, inputs = state.latent.states(read), read.astype(np.float64)
         calm = seq.calm if seq.calm is not None else np.ones(len(inputs), bool)
-        (a, b), (_, end) = seq.segment("train"), seq.segment("test")
-        trains = np.arange(end) < b
+        end = seq.segment("test")[1]
+        trains = np.arange(end) < seq.segment("train")[1]
         if len(data.sequences) > 1:
             pieces.append(Piece(inputs[:end], calm[:end], trains, fold))
         else:  # a lone recording: its folds are stretches of it in time

@@ -28,6 +28,7 @@ NumPy only: the streamer's surprise costs a few small matrix-vector products per
 """
 
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any, Optional
 
 import numpy as np
@@ -91,7 +92,7 @@ class SurpriseModel:
         mean = float(self.noise.mean()) if self.noise.size else 0.0
         return np.array([6.0 * mean, 2.0 * mean, 0.0])
 
-    @property
+    @cached_property
     def novelty_inflation(self) -> float:
         """What the extra noise adds to the squared Mahalanobis length on average: its variance on every lagged
         felt entry through the precision's diagonal, over the linear features' count."""
@@ -125,7 +126,7 @@ class SurpriseModel:
         """(n, P) the expected felt sample of each row, less the products' bias from the extra noise."""
         out = features @ self.weights
         if self.noise.size and self.noise.any():
-            out -= self._noise_covariance()[_pairs(self.channels)] @ self.weights[self._products]
+            out -= self._noise_bias
         return out
 
     @property
@@ -133,15 +134,17 @@ class SurpriseModel:
         start = self.precision.shape[0] - 1
         return slice(start, self.weights.shape[0] - 1)
 
-    def _noise_covariance(self) -> np.ndarray:
-        """(2F, 2F) the extra noise's covariance over the newest sample and its first difference."""
+    @cached_property
+    def _noise_bias(self) -> np.ndarray:
+        """(P,) what the extra noise adds to the products' prediction on average: their weights times its
+        covariance over the newest sample and its first difference."""
         f = self.channels
         var = np.zeros(f)
         var[list(self.felt)] = self.noise
         cov = np.zeros((2 * f, 2 * f))
         cov[:f, :f] = cov[:f, f:] = cov[f:, :f] = np.diag(var)
         cov[f:, f:] = 2.0 * np.diag(var)
-        return cov
+        return cov[_pairs(f)] @ self.weights[self._products]
 
     def noise_floor(self, features: np.ndarray) -> np.ndarray:
         """(n,) the mean over sensors of the squared residual the extra noise adds, in units of each sensor's
@@ -151,7 +154,7 @@ class SurpriseModel:
             return np.zeros(len(features))
         f, felt, w, noise = self.channels, list(self.felt), self.weights, self.noise
         z = np.concatenate([features[:, :f], features[:, :f] - features[:, f:2 * f]], axis=1)  # (n, 2F)
-        grad = np.einsum("nj,mjp->nmp", z, self._gradient_map())  # d prediction / d z, (n, 2F, P)
+        grad = np.einsum("nj,mjp->nmp", z, self._gradient_map)  # d prediction / d z, (n, 2F, P)
         newest = w[None, :f] + grad[:, :f] + grad[:, f:]  # through sample k: itself and its difference
         before = w[None, f:2 * f] - grad[:, f:]           # through sample k - 1: its difference
         rows = [lag * f + c for lag in range(2, LAGS) for c in felt]
@@ -160,6 +163,7 @@ class SurpriseModel:
                  + np.einsum("c,ncp->np", noise, before[:, felt] ** 2))
         return (added / self.scale ** 2).mean(axis=1)
 
+    @cached_property
     def _gradient_map(self) -> np.ndarray:
         """(2F, 2F, P): the products' gradient is this map applied to z (d(z_a z_b) = z_b dz_a + z_a dz_b)."""
         f = self.channels
@@ -170,38 +174,43 @@ class SurpriseModel:
         np.add.at(out, (b, a), q)
         return out
 
-    def residuals(self, inputs: np.ndarray) -> np.ndarray:
-        """(T, P) each felt sample's residual in units of its sensor's spread; NaN for the first LAGS."""
+    def residuals(self, inputs: np.ndarray, features: Optional[np.ndarray] = None) -> np.ndarray:
+        """(T, P) each felt sample's residual in units of its sensor's spread; NaN for the first LAGS. `features`:
+        `self.features(inputs)` where already built (here and below)."""
         out = np.full((len(inputs), len(self.felt)), np.nan)
         if len(inputs) > LAGS:
-            out[LAGS:] = (inputs[LAGS:, list(self.felt)] - self.predicted(self.features(inputs))) / self.scale
+            features = self.features(inputs) if features is None else features
+            out[LAGS:] = (inputs[LAGS:, list(self.felt)] - self.predicted(features)) / self.scale
         return out
 
-    def design(self, inputs: np.ndarray) -> np.ndarray:
+    def design(self, inputs: np.ndarray, features: Optional[np.ndarray] = None) -> np.ndarray:
         """(T, DESIGN) what the spread map reads before each sample: the log vigour after the sample before it,
         the log novelty of its features, 1; NaN for the first LAGS."""
         out = np.full((len(inputs), DESIGN), np.nan)
         if len(inputs) > LAGS:
             out[LAGS:, :-2] = vigour(inputs, self.felt, self.command, self.inflation)[LAGS - 1:-1, :-1]
-            out[LAGS:, -2] = self.novelty(self.features(inputs))
+            out[LAGS:, -2] = self.novelty(self.features(inputs) if features is None else features)
             out[LAGS:, -1] = 1.0
         return out
 
-    def expected(self, inputs: np.ndarray) -> np.ndarray:
+    def expected(self, inputs: np.ndarray, features: Optional[np.ndarray] = None) -> np.ndarray:
         """(T,) the squared residual expected of each sample; NaN for the first LAGS."""
-        out = np.exp(self.design(inputs) @ self.spread)
-        if len(inputs) > LAGS:
-            out[LAGS:] += self.noise_floor(self.features(inputs))
+        if len(inputs) <= LAGS:
+            return np.full(len(inputs), np.nan)
+        features = self.features(inputs) if features is None else features
+        out = np.exp(self.design(inputs, features) @ self.spread)
+        out[LAGS:] += self.noise_floor(features)
         return out
 
     def series(self, inputs: np.ndarray, states: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
         """(T,) the surprise after each sample of a normalised series (T, F); NaN until the first prediction. And
         (T,) the memory check's residual, smoothed the same way, from the latent model's states (T, H) after each
         sample (all NaN without a memory check or states)."""
-        squared = (self.residuals(inputs) ** 2).mean(axis=1)
+        features = self.features(inputs) if len(inputs) > LAGS else None
+        squared = (self.residuals(inputs, features) ** 2).mean(axis=1)
         memory = (self.memory.residuals(states, inputs) if self.memory is not None and states is not None
                   else np.full(len(inputs), np.nan))
-        return smoothed(squared / self.expected(inputs)), smoothed(memory)
+        return smoothed(squared / self.expected(inputs, features)), smoothed(memory)
 
     def online(self) -> "SurpriseReader":
         return SurpriseReader(self)

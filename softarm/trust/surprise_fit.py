@@ -52,8 +52,9 @@ def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence
     for fold in sums:
         model = _model(*_solve([s for f, s in sums.items() if f != fold], linear), felt, command)
         for piece in (p for p in pieces if p.fold == fold):
-            judged.append((model.residuals(piece.inputs), model.design(piece.inputs), _quiet(piece.calm, pad=True),
-                           piece.calm))
+            features = model.features(piece.inputs)
+            judged.append((model.residuals(piece.inputs, features), model.design(piece.inputs, features),
+                           _quiet(piece.calm, pad=True), piece.calm))
     scale = np.maximum(np.sqrt(np.nanmean(np.concatenate([e[q] for e, _, q, _ in judged]) ** 2, axis=0)), 1e-12)
     squared = [((e / scale) ** 2).mean(axis=1) for e, _, _, _ in judged]
     settled = [q & (np.arange(len(q)) >= LAGS + max(WINDOWS)) for _, _, q, _ in judged]
@@ -85,33 +86,46 @@ def fit_memory_check(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
 
 
 class _Sums:
-    """A fold's sums for the forward model's ridge regression, so that no two folds' rows sit in memory together."""
+    """A ridge regression's sums, added part by part (fold by fold) so that no two parts' rows sit in memory
+    together."""
 
     def __init__(self) -> None:
         self.xtx, self.xty, self.rows, self.squares = 0.0, 0.0, 0, 0.0
 
     def add(self, x: np.ndarray, y: np.ndarray, keep: np.ndarray) -> None:
+        """The kept finite rows of x (n, W) and y (n, P)."""
         keep = keep & np.isfinite(x).all(axis=1) & np.isfinite(y).all(axis=1)
         x, y = x[keep], y[keep]
         self.xtx, self.xty = self.xtx + x.T @ x, self.xty + x.T @ y
         self.rows, self.squares = self.rows + len(x), self.squares + float((x ** 2).sum())
 
+    @classmethod
+    def joined(cls, parts: Sequence["_Sums"]) -> "_Sums":
+        out = cls()
+        for part in parts:
+            out.xtx, out.xty = out.xtx + part.xtx, out.xty + part.xty
+            out.rows, out.squares = out.rows + part.rows, out.squares + part.squares
+        return out
 
-def _solve(sums: Sequence[_Sums], linear: int) -> tuple[np.ndarray, np.ndarray]:
-    """The forward model's weights (the penalty relative to the mean squared feature, the constant unshrunk) and
-    the precision of its `linear` first features with the constant (the inverse of their second moment, lightly
-    regularised), from the folds' sums."""
-    xtx = sum(s.xtx for s in sums)
-    xty = sum(s.xty for s in sums)
-    rows, squares = sum(s.rows for s in sums), sum(s.squares for s in sums)
-    width = xtx.shape[0]
-    shrink = RIDGE * squares / width * np.eye(width)
-    shrink[-1, -1] = 0.0
-    weights = np.linalg.solve(xtx + shrink, xty)
-    kept = np.r_[np.arange(linear), width - 1]
-    moment = xtx[np.ix_(kept, kept)] / rows
+    def solve(self, penalty: float, unshrunk: Optional[int] = None) -> np.ndarray:
+        """With `unshrunk`, the penalty is relative to the mean squared feature and that column (the constant) is
+        not shrunk; without, it is per row and shrinks every column."""
+        width = np.shape(self.xtx)[0]
+        scale = penalty * (self.squares / (self.rows * width) if unshrunk is not None else 1.0) * self.rows
+        shrink = scale * np.eye(width)
+        if unshrunk is not None:
+            shrink[unshrunk, unshrunk] = 0.0
+        return np.linalg.solve(self.xtx + shrink, self.xty)
+
+
+def _solve(folds: Sequence[_Sums], linear: int) -> tuple[np.ndarray, np.ndarray]:
+    """The forward model's weights (the constant unshrunk) and the precision of its `linear` first features with
+    the constant (the inverse of their second moment, lightly regularised), from the folds' sums."""
+    sums = _Sums.joined(folds)
+    kept = np.r_[np.arange(linear), sums.xtx.shape[0] - 1]
+    moment = sums.xtx[np.ix_(kept, kept)] / sums.rows
     moment += PRECISION_RIDGE * np.trace(moment) / len(kept) * np.eye(len(kept))
-    return weights, np.linalg.inv(moment)
+    return sums.solve(RIDGE, unshrunk=-1), np.linalg.inv(moment)
 
 
 def _model(weights: np.ndarray, precision: np.ndarray, felt: tuple[int, ...], command: tuple[int, ...]
@@ -131,17 +145,8 @@ def _quiet(calm: np.ndarray, pad: bool = False) -> np.ndarray:
 
 def _ridge(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], penalty: float,
            unshrunk: Optional[int] = None) -> np.ndarray:
-    """Ridge regression of y on x over the kept finite rows of every (x, y, keep) part, summed part by part so the
-    rows never sit in memory together. With `unshrunk`, the penalty is relative to the mean squared feature and
-    that column (the constant) is not shrunk; without, it is per row and shrinks every column."""
-    xtx, xty, rows, squares = 0.0, 0.0, 0, 0.0
+    """Ridge regression of y on x over the kept finite rows of every (x, y, keep) part (`_Sums.solve`)."""
+    sums = _Sums()
     for x, y, keep in parts:
-        keep = keep & np.isfinite(x).all(axis=1) & np.isfinite(y).all(axis=1)
-        x, y = x[keep], y[keep]
-        xtx, xty, rows, squares = xtx + x.T @ x, xty + x.T @ y, rows + len(x), squares + float((x ** 2).sum())
-    width = np.shape(xtx)[0]
-    scale = penalty * (squares / (rows * width) if unshrunk is not None else 1.0) * rows
-    shrink = scale * np.eye(width)
-    if unshrunk is not None:
-        shrink[unshrunk, unshrunk] = 0.0
-    return np.linalg.solve(xtx + shrink, xty)
+        sums.add(x, y, keep)
+    return sums.solve(penalty, unshrunk)
