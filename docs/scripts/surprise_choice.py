@@ -1,11 +1,13 @@
 """How the surprise was chosen: on the corpus alone, every motion group judged by a forward model fitted without
-it, three forward models and spread maps side by side (the suite is never read).
+it (the groups dealt into blocks as softarm deals them), four forward models and spread maps side by side (the
+suite is never read).
 
     python docs/scripts/surprise_choice.py recordings/general.pt recordings/corpus
 
 - `linear`: the lagged linear map, the spread from the arm's vigour alone;
 - `linear + novelty`: the same map, the spread from its vigour and the motion's novelty;
-- `products + novelty` (softarm's): the map with the products of the newest sample and its difference.
+- `products + novelty`: the map with the products of the newest sample and its difference;
+- `products + novelty + correction` (softarm's): and a network fitted to what that map leaves.
 
 Each prints the threshold set out of fold for one false alarm a minute and the false alarms it gives, the AUROC
 of the surprise against the frames each kind of disturbance acts in (an obstacle while the arm touches it), the
@@ -23,9 +25,10 @@ from softarm.imagine.trained import TrainedModel
 from softarm.learn.dataset import split_bounds, validation_indices
 from softarm.record.reader import Recording
 from softarm.trust.alarm import alarm_onsets, alarm_threshold, runs
+from softarm.trust.correction import fit_correction
 from softarm.trust.scoring import auroc
 from softarm.trust.surprise import LAGS, WINDOWS, SurpriseModel, feature_width, linear_width, smoothed
-from softarm.trust.surprise_fit import RIDGE, SPREAD_FLOOR, SPREAD_RIDGE, _quiet, _ridge
+from softarm.trust.surprise_fit import BLOCKS, RIDGE, SPREAD_FLOOR, SPREAD_RIDGE, _quiet, _ridge
 
 KINDS = ("push", "payload", "stiffness", "obstacle")
 
@@ -56,8 +59,10 @@ def read_corpus(checkpoint: str, folder: str) -> tuple[SurpriseModel, list[dict]
     return surprise, out
 
 
-def judged(surprise: SurpriseModel, corpus: list[dict], products: bool, novelty: bool) -> list[np.ndarray]:
-    """Each recording's surprise out of fold, the threshold appended last."""
+def judged(surprise: SurpriseModel, corpus: list[dict], products: bool, novelty: bool, corrected: bool
+           ) -> list[np.ndarray]:
+    """Each recording's surprise out of fold (the motion groups dealt into blocks as softarm deals them), the
+    threshold appended last."""
     channels, commands = corpus[0]["x"].shape[1], len(surprise.command)
     linear = linear_width(channels, commands)
     columns = np.r_[np.arange(feature_width(channels, commands) - 1 if products else linear),
@@ -67,18 +72,24 @@ def judged(surprise: SurpriseModel, corpus: list[dict], products: bool, novelty:
     rows = [(probe.features(c["x"])[:, columns], c["x"][LAGS:, list(surprise.felt)],
              _quiet(c["calm"]) & c["fitting"][LAGS:]) for c in corpus]
     residuals, designs = [None] * len(corpus), [None] * len(corpus)
-    for group in sorted({c["group"] for c in corpus}):
-        others = [r for r, c in zip(rows, corpus) if c["group"] != group]
+    groups = sorted({c["group"] for c in corpus})
+    for block in (groups[i::BLOCKS] for i in range(min(BLOCKS, len(groups)))):
+        others = [r for r, c in zip(rows, corpus) if c["group"] not in block]
         weights = _ridge(others, RIDGE, unshrunk=-1)
+        if corrected:
+            x = np.concatenate([x[k & np.isfinite(y).all(axis=1)] for x, y, k in others])
+            y = np.concatenate([y[k & np.isfinite(y).all(axis=1)] for _, y, k in others])
+            correction = fit_correction(x[:, :linear], y - x @ weights)
         lin = np.r_[np.arange(linear), len(columns) - 1]
         moment = sum(x[k][:, lin].T @ x[k][:, lin] for x, _, k in others) / sum(k.sum() for _, _, k in others)
         precision = np.linalg.inv(moment + 1e-6 * np.trace(moment) / len(lin) * np.eye(len(lin)))
         judge = SurpriseModel(np.zeros((feature_width(channels, commands), 1)), np.ones(1), np.zeros(8), precision,
                               0.0, surprise.felt, surprise.command)
         for n, c in enumerate(corpus):
-            if c["group"] == group:
+            if c["group"] in block:
                 x, y, _ = rows[n]
-                residuals[n] = np.vstack([np.full((LAGS, y.shape[1]), np.nan), y - x @ weights])
+                predicted = x @ weights + (correction(x[:, :linear]) if corrected else 0.0)
+                residuals[n] = np.vstack([np.full((LAGS, y.shape[1]), np.nan), y - predicted])
                 design = judge.design(c["x"])
                 designs[n] = design if novelty else np.delete(design, -2, axis=1)
     quiet = [_quiet(c["calm"], pad=True) for c in corpus]
@@ -113,9 +124,11 @@ def scores(series: list[np.ndarray], threshold: float, corpus: list[dict]) -> st
 
 def main(checkpoint: str, folder: str) -> None:
     surprise, corpus = read_corpus(checkpoint, folder)
-    for name, products, novelty in (("linear", False, False), ("linear + novelty", False, True),
-                                    ("products + novelty", True, True)):
-        *series, threshold = judged(surprise, corpus, products, novelty)
+    for name, products, novelty, corrected in (("linear", False, False, False),
+                                               ("linear + novelty", False, True, False),
+                                               ("products + novelty", True, True, False),
+                                               ("products + novelty + correction", True, True, True)):
+        *series, threshold = judged(surprise, corpus, products, novelty, corrected)
         print(f"{name}: threshold {threshold:.1f}, {scores(series, threshold, corpus)}")
 
 

@@ -95,9 +95,10 @@ def ridge_toward(x: np.ndarray, y: np.ndarray, weights: np.ndarray, bias: np.nda
 def adapted_surprise(model: SurpriseModel, states: np.ndarray, inputs: np.ndarray, start: int,
                      shrink: float) -> SurpriseModel:
     """The forward model and the memory check refitted toward their weights on the samples from `start` on
-    (the latent model's states (T, H) after each normalised input sample (T, F)); their spreads stay."""
+    (the latent model's states (T, H) after each normalised input sample (T, F)); their spreads and the forward
+    model's correction stay (the ridge takes the change)."""
     x = model.features(inputs)[max(start - LAGS, 0):]
-    y = inputs[LAGS:][max(start - LAGS, 0):, list(model.felt)]
+    y = inputs[LAGS:][max(start - LAGS, 0):, list(model.felt)] - model.corrected(x)
     model = replace(model, weights=toward(x, y, model.weights, shrink))
     if model.memory is None:
         return model

@@ -73,7 +73,7 @@ def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:
             if b - a > LAGS + 1:
                 into.append((states[a:b], inputs[a:b], calm[a:b]))
     model = fit_surprise(pieces, felt, command, float(np.median(np.diff(data.sequences[0].times))),
-                         t.false_alarms_per_minute)
+                         t.false_alarms_per_minute, str(state.device))
     if model is None:
         return None
     return replace(model, memory=fit_memory_check(fitting, felt, command, calibration or fitting))

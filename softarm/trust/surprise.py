@@ -5,6 +5,9 @@ channel and the command of the next sample (the efference copy: the robot knows 
 stretch it expects to feel next. Linear in those, plus the products of the newest sample and its first difference
 (`quadratic`): the body's mechanics are close to linear over one 10 ms step, and the sensors' geometry and a
 softened spring bend them by a product, not more, so the map still extrapolates to motions the corpus never showed.
+What that regression leaves, a small network on the same lagged inputs takes (`softarm.trust.correction`): over
+a tenth of a second the arm's state is not linear in what the sensors felt, and on a new motion that structured
+residual would hide a push.
 
 How far a felt sample may stray depends on how the arm is moving and on how new the motion is: a prediction is
 sharper while the arm hangs still than while it whips at a resonance, and sharper on motions like those it was
@@ -21,8 +24,9 @@ alarm fires while it exceeds the threshold.
 
 Sensors noisier than those the model was fitted on (`heard_through`) would make every sample surprising. Their
 white noise (and quantisation) is known, so its share is expected too: the residual's extra variance through the
-forward model's weights (and, to first order, its products) is added to the expectation, the products' bias is
-taken off the prediction, and the noise's share of the vigour averages and of the novelty is taken off them.
+forward model's weights (and, to first order, its products and its correction) is added to the expectation, the
+products' bias is taken off the prediction, and the noise's share of the vigour averages and of the novelty is
+taken off them.
 
 NumPy only: the streamer's surprise costs a few small matrix-vector products per sample.
 """
@@ -33,6 +37,7 @@ from typing import Any, Optional
 
 import numpy as np
 
+from softarm.trust.correction import Correction
 from softarm.trust.memory_check import MemoryCheck
 
 KIND = "novelty"     # the checkpoint's name for this surprise (earlier ones are refitted, not read)
@@ -73,6 +78,7 @@ class SurpriseModel:
     felt: tuple[int, ...]     # the columns of the normalised inputs that are felt (the stretch)
     command: tuple[int, ...]  # the columns that are the command, known one sample ahead
     memory: Optional[MemoryCheck] = None  # how well the latent model's state foresees the stretch (the confidence's)
+    correction: Optional[Correction] = None  # a network's correction of the prediction, on the linear features
     noise: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (P,) or empty: `heard_through`
 
     def heard_through(self, variance: np.ndarray) -> "SurpriseModel":
@@ -122,9 +128,20 @@ class SurpriseModel:
         d2 = np.einsum("ij,jk,ik->i", x, self.precision, x) / x.shape[1] - self.novelty_inflation
         return np.log(np.maximum(d2, 0.0) + NOVELTY_FLOOR)
 
+    def _inputs(self, features: np.ndarray) -> np.ndarray:
+        """The linear features of feature rows without the constant: what the correction reads."""
+        return features[:, :self.precision.shape[0] - 1]
+
+    def corrected(self, features: np.ndarray) -> np.ndarray:
+        """(n, P) the correction's share of each row's prediction (0 without one)."""
+        if self.correction is None:
+            return np.zeros((len(features), len(self.felt)))
+        return self.correction(self._inputs(features))
+
     def predicted(self, features: np.ndarray) -> np.ndarray:
-        """(n, P) the expected felt sample of each row, less the products' bias from the extra noise."""
-        out = features @ self.weights
+        """(n, P) the expected felt sample of each row (the ridge's and the correction's), less the products'
+        bias from the extra noise."""
+        out = features @ self.weights + self.corrected(features)
         if self.noise.size and self.noise.any():
             out -= self._noise_bias
         return out
@@ -148,19 +165,20 @@ class SurpriseModel:
 
     def noise_floor(self, features: np.ndarray) -> np.ndarray:
         """(n,) the mean over sensors of the squared residual the extra noise adds, in units of each sensor's
-        spread, to first order: the felt sample's own noise, and every lagged felt input's through the weights
-        and (for the newest two samples) the products' gradient at that row."""
+        spread, to first order: the felt sample's own noise, and every lagged felt input's through the prediction's
+        gradient at that row (the weights, the products' for the newest two samples, the correction's)."""
         if not self.noise.size or not self.noise.any():
             return np.zeros(len(features))
-        f, felt, w, noise = self.channels, list(self.felt), self.weights, self.noise
+        f, felt, w = self.channels, list(self.felt), self.weights
         z = np.concatenate([features[:, :f], features[:, :f] - features[:, f:2 * f]], axis=1)  # (n, 2F)
         grad = np.einsum("nj,mjp->nmp", z, self._gradient_map)  # d prediction / d z, (n, 2F, P)
-        newest = w[None, :f] + grad[:, :f] + grad[:, f:]  # through sample k: itself and its difference
-        before = w[None, f:2 * f] - grad[:, f:]           # through sample k - 1: its difference
-        rows = [lag * f + c for lag in range(2, LAGS) for c in felt]
-        older = np.tile(noise, LAGS - 2) @ w[rows] ** 2
-        added = (noise + older + np.einsum("c,ncp->np", noise, newest[:, felt] ** 2)
-                 + np.einsum("c,ncp->np", noise, before[:, felt] ** 2))
+        rows = [lag * f + c for lag in range(LAGS) for c in felt]
+        through = np.repeat(w[None, rows], len(features), axis=0)  # (n, LAGS P, P) d prediction / d felt input
+        through[:, :len(felt)] += grad[:, felt] + grad[:, [f + c for c in felt]]  # sample k: itself, its difference
+        through[:, len(felt):2 * len(felt)] -= grad[:, [f + c for c in felt]]    # sample k - 1: its difference
+        if self.correction is not None:
+            through += self.correction.gradient(self._inputs(features), rows)
+        added = self.noise + np.einsum("r,nrp->np", np.tile(self.noise, LAGS), through ** 2)
         return (added / self.scale ** 2).mean(axis=1)
 
     @cached_property
@@ -220,15 +238,17 @@ class SurpriseModel:
                 "weights": self.weights.tolist(), "scale": self.scale.tolist(), "spread": self.spread.tolist(),
                 "precision": self.precision.tolist(), "threshold": self.threshold, "felt": list(self.felt),
                 "command": list(self.command),
-                **({"memory": self.memory.to_state()} if self.memory is not None else {})}
+                **({"memory": self.memory.to_state()} if self.memory is not None else {}),
+                **({"correction": self.correction.to_state()} if self.correction is not None else {})}
 
     @classmethod
     def from_state(cls, state: dict[str, Any]) -> "SurpriseModel":
         felt, command = tuple(int(i) for i in state["felt"]), tuple(int(i) for i in state["command"])
         memory = MemoryCheck.from_state(state["memory"], felt, command) if state.get("memory") else None
+        correction = Correction.from_state(state["correction"]) if state.get("correction") else None
         return cls(np.asarray(state["weights"], np.float64), np.asarray(state["scale"], np.float64),
                    np.asarray(state["spread"], np.float64), np.asarray(state["precision"], np.float64),
-                   float(state["threshold"]), felt, command, memory)
+                   float(state["threshold"]), felt, command, memory, correction)
 
     @staticmethod
     def current(state: dict[str, Any]) -> bool:

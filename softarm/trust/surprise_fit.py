@@ -4,17 +4,20 @@ group named (`softarm.learn.trust_fits` gathers them from the training).
 
 A surprise that only knew the motions it was fitted on would cry wolf on the first new one. So everything after
 the forward model is fitted out of fold: each fold (a motion group of the corpus) is judged by a forward model
-fitted on the others' training samples, and its residuals, set against its vigour and its novelty under that
-model, fit each sensor's spread, the spread map and the alarm's threshold. The forward model the checkpoint keeps
-is fitted on every fold. Samples near a disturbance are left out of all of it: the model learns what undisturbed
+fitted on the other folds' training samples (the folds dealt into `BLOCKS` blocks, for each correction's fit costs
+about a minute on the corpus), and its residuals, set against its vigour and its novelty under that model, fit
+each sensor's spread, the spread map and the alarm's threshold. The forward model the checkpoint keeps is fitted
+on every fold. Samples near a disturbance are left out of all of it: the model learns what undisturbed
 motion feels like.
 """
 
+from dataclasses import replace
 from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
 from softarm.trust.alarm import alarm_threshold
+from softarm.trust.correction import fit_correction
 from softarm.trust.memory_check import MemoryCheck
 from softarm.trust.surprise import DESIGN, LAGS, WINDOWS, SurpriseModel, feature_width, linear_width, smoothed
 
@@ -23,6 +26,7 @@ PRECISION_RIDGE = 1e-6  # added to the linear features' second moment before it 
 MEMORY_RIDGE = 1e-4   # the memory check's, the same way
 SPREAD_RIDGE = 1e-6   # the spread map's L2 penalty per sample
 SPREAD_FLOOR = 1e-3   # added to a squared residual before its logarithm
+BLOCKS = 5            # blocks the folds are dealt into for judging out of fold (a correction fitted per block)
 
 
 class Piece(NamedTuple):
@@ -34,24 +38,29 @@ class Piece(NamedTuple):
 
 
 def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence[int], frame_dt: float,
-                 false_alarms_per_minute: float) -> Optional[SurpriseModel]:
-    """The forward model by ridge regression on every fold's fitting samples; each sensor's spread, the spread
-    map and the alarm's threshold from every piece judged out of fold. None where fewer than two folds hold
-    undisturbed samples to fit: nothing could be judged out of fold."""
+                 false_alarms_per_minute: float, device: Optional[str] = None) -> Optional[SurpriseModel]:
+    """The forward model by ridge regression on every fold's fitting samples, its correction fitted (on `device`)
+    to what the ridge leaves; each sensor's spread, the spread map and the alarm's threshold from every piece
+    judged out of fold, the folds dealt into at most `BLOCKS` blocks, each judged by a forward model fitted
+    without it. None where fewer than two folds hold undisturbed samples to fit: nothing could be judged out of
+    fold."""
     felt, command = tuple(felt), tuple(command)
     channels = pieces[0].inputs.shape[1]
     linear = linear_width(channels, len(command))
     probe = _model(np.zeros((feature_width(channels, len(command)), len(felt))), np.eye(linear + 1), felt, command)
-    sums = {fold: _Sums() for fold in sorted({p.fold for p in pieces})}
+    folds = {fold: _Sums() for fold in sorted({p.fold for p in pieces})}
     for piece in pieces:
         keep = _quiet(piece.calm) & piece.fitting[LAGS:]
-        sums[piece.fold].add(probe.features(piece.inputs), piece.inputs[LAGS:, list(felt)], keep)
-    if sum(s.rows > 0 for s in sums.values()) < 2:
+        folds[piece.fold].add(probe.features(piece.inputs), piece.inputs[LAGS:, list(felt)], keep)
+    names = [fold for fold, sums in folds.items() if sums.rows > 0]
+    if len(names) < 2:
         return None
+    blocks = [names[i::BLOCKS] for i in range(min(BLOCKS, len(names)))]
+    blocks[0] += [fold for fold in folds if fold not in names]  # folds with nothing to fit are judged all the same
     judged = []  # per piece: unscaled residuals (T, P), the spread map's inputs (T, DESIGN), quiet (T,), calm (T,)
-    for fold in sums:
-        model = _model(*_solve([s for f, s in sums.items() if f != fold], linear), felt, command)
-        for piece in (p for p in pieces if p.fold == fold):
+    for block in blocks:
+        model = _forward([folds[f] for f in names if f not in block], linear, felt, command, device)
+        for piece in (p for p in pieces if p.fold in block):
             features = model.features(piece.inputs)
             judged.append((model.residuals(piece.inputs, features), model.design(piece.inputs, features),
                            _quiet(piece.calm, pad=True), piece.calm))
@@ -64,8 +73,17 @@ def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence
     spread[-1] += np.log(np.nanmean(ratio))
     series = [(smoothed(s / np.exp(d @ spread)), calm) for (_, d, _, calm), s in zip(judged, squared)]
     threshold = alarm_threshold(series, frame_dt, false_alarms_per_minute)
-    weights, precision = _solve(list(sums.values()), linear)
-    return SurpriseModel(weights, scale, spread, precision, threshold, felt, command)
+    full = _forward([folds[f] for f in names], linear, felt, command, device)
+    return replace(full, scale=scale, spread=spread, threshold=threshold)
+
+
+def _forward(folds: Sequence["_Sums"], linear: int, felt: tuple[int, ...], command: tuple[int, ...],
+             device: Optional[str]) -> SurpriseModel:
+    """The forward model of the folds' rows: the ridge, then its correction fitted to the ridge's residual."""
+    weights, precision = _solve(folds, linear)
+    x, y = np.concatenate([f.x for f in folds]), np.concatenate([f.y for f in folds])
+    correction = fit_correction(x[:, :linear], y - x @ weights, device)
+    return replace(_model(weights, precision, felt, command), correction=correction)
 
 
 def fit_memory_check(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], felt: Sequence[int],
@@ -86,11 +104,13 @@ def fit_memory_check(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
 
 
 class _Sums:
-    """A ridge regression's sums, added part by part (fold by fold) so that no two parts' rows sit in memory
-    together."""
+    """A ridge regression's sums, added part by part (fold by fold); `kept` also holds the rows (the correction's
+    fit reads them)."""
 
-    def __init__(self) -> None:
+    def __init__(self, kept: bool = True) -> None:
         self.xtx, self.xty, self.rows, self.squares = 0.0, 0.0, 0, 0.0
+        self.kept = kept
+        self.parts: list[tuple[np.ndarray, np.ndarray]] = []
 
     def add(self, x: np.ndarray, y: np.ndarray, keep: np.ndarray) -> None:
         """The kept finite rows of x (n, W) and y (n, P)."""
@@ -98,10 +118,20 @@ class _Sums:
         x, y = x[keep], y[keep]
         self.xtx, self.xty = self.xtx + x.T @ x, self.xty + x.T @ y
         self.rows, self.squares = self.rows + len(x), self.squares + float((x ** 2).sum())
+        if self.kept:
+            self.parts.append((x, y))
+
+    @property
+    def x(self) -> np.ndarray:
+        return np.concatenate([x for x, _ in self.parts])
+
+    @property
+    def y(self) -> np.ndarray:
+        return np.concatenate([y for _, y in self.parts])
 
     @classmethod
     def joined(cls, parts: Sequence["_Sums"]) -> "_Sums":
-        out = cls()
+        out = cls(kept=False)
         for part in parts:
             out.xtx, out.xty = out.xtx + part.xtx, out.xty + part.xty
             out.rows, out.squares = out.rows + part.rows, out.squares + part.squares
@@ -146,7 +176,7 @@ def _quiet(calm: np.ndarray, pad: bool = False) -> np.ndarray:
 def _ridge(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], penalty: float,
            unshrunk: Optional[int] = None) -> np.ndarray:
     """Ridge regression of y on x over the kept finite rows of every (x, y, keep) part (`_Sums.solve`)."""
-    sums = _Sums()
+    sums = _Sums(kept=False)
     for x, y, keep in parts:
         sums.add(x, y, keep)
     return sums.solve(penalty, unshrunk)

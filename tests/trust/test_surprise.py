@@ -6,12 +6,20 @@ series."""
 import numpy as np
 import pytest
 
+from softarm.trust import correction
 from softarm.trust.alarm import alarm_onsets, alarm_threshold
 from softarm.trust.surprise import LAGS, SMOOTHING, linear_width, smoothed, vigour_signals
 from softarm.trust.surprise_fit import Piece, fit_surprise
 
 DT = 0.01
 FELT, COMMAND = [0, 1], [2]
+
+
+@pytest.fixture(autouse=True)
+def brief_correction(monkeypatch):
+    """These worlds are a lagged map and its products, which the ridge holds: a brief fit of the correction (on
+    them it learns the noise's nothing) keeps each fit to seconds; test_correction fits it in full."""
+    monkeypatch.setattr(correction, "EPOCHS", 4)
 
 
 def linear_world(seed: int, length: int = 6000, noise=0.1, command_scale=None, product: float = 0.0,
