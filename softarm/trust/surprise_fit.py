@@ -81,7 +81,8 @@ def _forward(folds: Sequence["_Sums"], linear: int, felt: tuple[int, ...], comma
              device: Optional[str]) -> SurpriseModel:
     """The forward model of the folds' rows: the ridge, then its correction fitted to the ridge's residual."""
     weights, precision = _solve(folds, linear)
-    x, y = np.concatenate([f.x for f in folds]), np.concatenate([f.y for f in folds])
+    parts = [part for fold in folds for part in fold.parts]
+    x, y = np.concatenate([x for x, _ in parts]), np.concatenate([y for _, y in parts])  # one copy of the rows
     correction = fit_correction(x[:, :linear], y - x @ weights, device)
     return replace(_model(weights, precision, felt, command), correction=correction)
 
@@ -120,14 +121,6 @@ class _Sums:
         self.rows, self.squares = self.rows + len(x), self.squares + float((x ** 2).sum())
         if self.kept:
             self.parts.append((x, y))
-
-    @property
-    def x(self) -> np.ndarray:
-        return np.concatenate([x for x, _ in self.parts])
-
-    @property
-    def y(self) -> np.ndarray:
-        return np.concatenate([y for _, y in self.parts])
 
     @classmethod
     def joined(cls, parts: Sequence["_Sums"]) -> "_Sums":
