@@ -14,6 +14,8 @@ from typing import ContextManager
 
 import torch
 
+from softarm.errors import ConfigError
+
 
 def cpu_has_bf16() -> bool:
     """Whether oneDNN runs bf16 natively here (AVX-512 BF16 or AMX); elsewhere bf16 is emulated and slower."""
@@ -25,6 +27,17 @@ def has_bf16(device: torch.device) -> bool:
     if device.type == "cuda":
         return bool(torch.cuda.is_bf16_supported())
     return cpu_has_bf16()
+
+
+def require_native(precision: str, device: torch.device) -> None:
+    """Refuse bf16 on a chip that only emulates it, before any step: emulated bf16 runs slower than fp32, and
+    oneDNN has no LSTM primitive for it (torch 2.13 raises at the latent phase's first step, after the whole
+    autoencoder phase)."""
+    if precision == "bf16" and not has_bf16(device):
+        chip = "this CPU" if device.type == "cpu" else f"the GPU {device}"
+        raise ConfigError(f"train.precision = \"bf16\" needs a chip that runs bf16 natively (a CPU with AVX-512 BF16 "
+                          f"or AMX, a GPU from Ampere on), and {chip} does not: set train.precision to \"auto\" or "
+                          f"\"fp32\"")
 
 
 def forward_precision(precision: str, device: str = "cpu") -> ContextManager:

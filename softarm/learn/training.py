@@ -140,6 +140,10 @@ def _train(recordings: list[Path], config: Config, out: Path, resume: bool, rrd:
         from softarm.learn.step_times import fastest_precision
 
         state.config = override(state.config, {"train.precision": fastest_precision(state)})
+    elif state.phase != "done":  # steps to run: in an arithmetic this chip has
+        from softarm.learn.precision import require_native
+
+        require_native(state.config.train.precision, state.device)
     if minutes is not None and resume:
         warnings.warn(f"--minutes {minutes:g} is ignored with --resume: the saved run keeps its own schedule",
                       stacklevel=3)

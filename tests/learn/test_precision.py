@@ -5,8 +5,9 @@ import pytest
 import torch
 
 from softarm.config import load_config
-from softarm.learn import step_times
-from softarm.learn.precision import forward_precision
+from softarm.errors import ConfigError
+from softarm.learn import precision, step_times
+from softarm.learn.precision import forward_precision, has_bf16
 from softarm.learn.train_state import start_state
 from softarm.learn.training import train
 from softarm.model.checkpoint import load_checkpoint
@@ -45,8 +46,9 @@ def test_without_native_bf16_nothing_is_timed(state, monkeypatch):
 
 
 def test_measuring_leaves_the_networks_as_they_were(state):
+    both = ("fp32", "bf16") if has_bf16(state.device) else ("fp32",)  # emulated bf16 has no LSTM (`require_native`)
     before = {k: v.clone() for k, v in state.autoencoder.state_dict().items()}
-    for measured in (step_times.autoencoder_steps(state, ("fp32", "bf16")), step_times.latent_steps(state, ("bf16",))):
+    for measured in (step_times.autoencoder_steps(state, both), step_times.latent_steps(state, both[-1:])):
         assert set(measured) <= {"fp32", "bf16"} and all(seconds > 0 for seconds in measured.values())
     after = state.autoencoder.state_dict()
     assert all(torch.equal(before[k], after[k]) for k in before)
@@ -55,11 +57,22 @@ def test_measuring_leaves_the_networks_as_they_were(state):
 
 @pytest.mark.slow
 def test_an_auto_training_keeps_its_choice_in_the_checkpoint(recordings, tmp_path, monkeypatch):
-    timed(monkeypatch, {"fp32": 0.2, "bf16": 0.1}, {"fp32": 0.2, "bf16": 0.1})
+    chosen = "bf16" if has_bf16(torch.device("cpu")) else "fp32"  # the one this chip can train in, timed faster
+    bf16 = 0.1 if chosen == "bf16" else 0.3
+    timed(monkeypatch, {"fp32": 0.2, "bf16": bf16}, {"fp32": 0.2, "bf16": bf16})
     config = load_config(overrides={**TINY, "train.epochs_ae": 1, "train.epochs_lstm": 1, "train.precision": "auto"})
     assert config.train.precision == "auto"
     trained = train([recordings / "s0.mcap"], config, tmp_path / "auto.pt")
-    assert load_checkpoint(trained.checkpoint)["config"]["train"]["precision"] == "bf16"
+    assert load_checkpoint(trained.checkpoint)["config"]["train"]["precision"] == chosen
+
+
+def test_bf16_on_a_chip_that_only_emulates_it_is_refused_before_any_step(recordings, tmp_path, monkeypatch):
+    monkeypatch.setattr(precision, "has_bf16", lambda device: False)
+    config = load_config(overrides={**TINY, "train.precision": "bf16"})
+    with pytest.raises(ConfigError, match="natively.*\"fp32\""):
+        train([recordings / "s0.mcap"], config, tmp_path / "bf16.pt")
+    assert list(tmp_path.iterdir()) == []  # nothing written
+    precision.require_native("fp32", torch.device("cpu"))  # fp32 runs anywhere
 
 
 def test_auto_must_be_settled_before_a_step_runs():
