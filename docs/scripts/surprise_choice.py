@@ -1,13 +1,14 @@
 """How the surprise was chosen: on the corpus alone, every motion group judged by a forward model fitted without
-it (the groups dealt into blocks as softarm deals them), four forward models and spread maps side by side (the
-suite is never read).
+it (the groups dealt into blocks as softarm deals them), four forward models and spread maps side by side, and
+the last with the innovation beside its error (the suite is never read).
 
     python docs/scripts/surprise_choice.py recordings/general.pt recordings/corpus
 
 - `linear`: the lagged linear map, the spread from the arm's vigour alone;
 - `linear + novelty`: the same map, the spread from its vigour and the motion's novelty;
 - `products + novelty`: the map with the products of the newest sample and its difference;
-- `products + novelty + correction` (softarm's): and a network fitted to what that map leaves.
+- `products + novelty + correction`: and a network fitted to what that map leaves;
+- `... + innovation` (softarm's): the surprise averages the error with what the last errors did not foresee of it.
 
 Each prints the threshold set out of fold for one false alarm a minute and the false alarms it gives, the AUROC
 of the surprise against the frames each kind of disturbance acts in (an obstacle while the arm touches it), the
@@ -16,6 +17,7 @@ is active), and the share of disturbances alarmed at that threshold.
 """
 
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -27,8 +29,8 @@ from softarm.record.reader import Recording
 from softarm.trust.alarm import alarm_onsets, alarm_threshold, runs
 from softarm.trust.correction import fit_correction
 from softarm.trust.scoring import auroc
-from softarm.trust.surprise import LAGS, WINDOWS, SurpriseModel, feature_width, linear_width, smoothed
-from softarm.trust.surprise_fit import BLOCKS, RIDGE, SPREAD_FLOOR, SPREAD_RIDGE, _quiet, _ridge
+from softarm.trust.surprise import LAGS, SurpriseModel, feature_width, linear_width, smoothed
+from softarm.trust.surprise_fit import BLOCKS, RIDGE, _quiet, _ridge, _spread_map, _spreads, fit_innovation
 
 KINDS = ("push", "payload", "stiffness", "obstacle")
 
@@ -60,9 +62,9 @@ def read_corpus(checkpoint: str, folder: str) -> tuple[SurpriseModel, list[dict]
 
 
 def judged(surprise: SurpriseModel, corpus: list[dict], products: bool, novelty: bool, corrected: bool
-           ) -> list[np.ndarray]:
-    """Each recording's surprise out of fold (the motion groups dealt into blocks as softarm deals them), the
-    threshold appended last."""
+           ) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Each recording's residuals (T, P) and spread map inputs (T, DESIGN or one fewer without the novelty), out
+    of fold (the motion groups dealt into blocks as softarm deals them)."""
     channels, commands = corpus[0]["x"].shape[1], len(surprise.command)
     linear = linear_width(channels, commands)
     columns = np.r_[np.arange(feature_width(channels, commands) - 1 if products else linear),
@@ -92,15 +94,20 @@ def judged(surprise: SurpriseModel, corpus: list[dict], products: bool, novelty:
                 residuals[n] = np.vstack([np.full((LAGS, y.shape[1]), np.nan), y - predicted])
                 design = judge.design(c["x"])
                 designs[n] = design if novelty else np.delete(design, -2, axis=1)
+    return residuals, designs
+
+
+def surprises(surprise: SurpriseModel, corpus: list[dict], residuals: list[np.ndarray], designs: list[np.ndarray],
+              innovated: bool) -> list[np.ndarray]:
+    """Each recording's surprise from its out-of-fold residuals, as softarm fits it (`fit_surprise`), with or
+    without the innovation; the threshold appended last."""
     quiet = [_quiet(c["calm"], pad=True) for c in corpus]
-    scale = np.sqrt(np.mean(np.concatenate([r[q] for r, q in zip(residuals, quiet)]) ** 2, axis=0))
-    squared = [((r / scale) ** 2).mean(axis=1) for r in residuals]
-    settled = [q & (np.arange(len(q)) >= LAGS + max(WINDOWS)) for q in quiet]
-    spread = _ridge([(d, np.log(s + SPREAD_FLOOR)[:, None], k) for d, s, k in zip(designs, squared, settled)],
-                    SPREAD_RIDGE)[:, 0]
-    spread[-1] += np.log(np.nanmean(np.concatenate([(s / np.exp(d @ spread))[q]
-                                                    for d, s, q in zip(designs, squared, quiet)])))
-    series = [smoothed(s / np.exp(d @ spread)) for d, s in zip(designs, squared)]
+    errors = [r / _spreads(residuals, quiet) for r in residuals]
+    spread = _spread_map(designs, [(e ** 2).mean(axis=1) for e in errors], quiet)
+    innovation = (fit_innovation([e / np.sqrt(np.exp(d @ spread))[:, None] for e, d in zip(errors, designs)],
+                                 designs, quiet) if innovated else None)
+    judge = replace(surprise, spread=spread, innovation=innovation)
+    series = [smoothed(judge.values(e, d, np.zeros_like(e))) for e, d in zip(errors, designs)]
     return [*series, alarm_threshold([(s, c["calm"]) for s, c in zip(series, corpus)], 0.01, 1.0)]
 
 
@@ -128,8 +135,11 @@ def main(checkpoint: str, folder: str) -> None:
                                                ("linear + novelty", False, True, False),
                                                ("products + novelty", True, True, False),
                                                ("products + novelty + correction", True, True, True)):
-        *series, threshold = judged(surprise, corpus, products, novelty, corrected)
-        print(f"{name}: threshold {threshold:.1f}, {scores(series, threshold, corpus)}")
+        residuals, designs = judged(surprise, corpus, products, novelty, corrected)
+        for innovated in (False, True) if corrected else (False,):
+            *series, threshold = surprises(surprise, corpus, residuals, designs, innovated)
+            label = f"{name} + innovation" if innovated else name
+            print(f"{label}: threshold {threshold:.1f}, {scores(series, threshold, corpus)}")
 
 
 if __name__ == "__main__":

@@ -18,9 +18,13 @@ sample) and from the motion's novelty (the Mahalanobis length of the forward mod
 ones it was fitted on, `novelty`). The map, each sensor's spread and the alarm's threshold are fitted out of fold:
 each motion group of the corpus is judged by a forward model fitted without it (`softarm.trust.surprise_fit`), so
 they learn how much a new motion costs the prediction, and a push still stands out (the motion before it is
-ordinary). The surprise is the mean over sensors of the squared residual in units of each sensor's spread, divided
-by that expectation and smoothed over `SMOOTHING` samples: about 1 while the world leaves the arm alone; the
-alarm fires while it exceeds the threshold.
+ordinary). On a motion new to it the forward model errs the same way for many samples in a row, and a push hides in
+an error that was already there; so the residuals, in units of their expected spread, are also judged by what the
+last few of them did not foresee (`softarm.trust.innovation`). The surprise is the average of two ratios, each
+about 1 while the world leaves the arm alone: the mean over sensors of the squared residual in units of each
+sensor's spread over that expectation, and the mean squared innovation over its own; smoothed over `SMOOTHING`
+samples. The first holds a load that stays, the second marks what changed at this sample. The alarm fires while
+the surprise exceeds the threshold.
 
 Sensors noisier than those the model was fitted on (`heard_through`) would make every sample surprising. Their
 white noise (and quantisation) is known, so its share is expected too: the residual's extra variance through the
@@ -38,9 +42,10 @@ from typing import Any, Optional
 import numpy as np
 
 from softarm.trust.correction import Correction
+from softarm.trust.innovation import ECHOES, Innovation
 from softarm.trust.memory_check import MemoryCheck
 
-KIND = "novelty"     # the checkpoint's name for this surprise (earlier ones are refitted, not read)
+KIND = "innovation"  # the checkpoint's name for this surprise (earlier ones are refitted, not read)
 LAGS = 10            # samples of every input channel the forward model reads (100 ms at the default rate)
 WINDOWS = (5.0, 50.0)  # samples: time constants of the vigour averages
 SMOOTHING = 3.0      # samples: the surprise's exponential average (30 ms at the default rate)
@@ -79,6 +84,7 @@ class SurpriseModel:
     command: tuple[int, ...]  # the columns that are the command, known one sample ahead
     memory: Optional[MemoryCheck] = None  # how well the latent model's state foresees the stretch (the confidence's)
     correction: Optional[Correction] = None  # a network's correction of the prediction, on the linear features
+    innovation: Optional[Innovation] = None  # what the last errors foresee of the next: the surprise's second half
     noise: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (P,) or empty: `heard_through`
 
     def heard_through(self, variance: np.ndarray) -> "SurpriseModel":
@@ -164,11 +170,15 @@ class SurpriseModel:
         return cov[_pairs(f)] @ self.weights[self._products]
 
     def noise_floor(self, features: np.ndarray) -> np.ndarray:
-        """(n,) the mean over sensors of the squared residual the extra noise adds, in units of each sensor's
-        spread, to first order: the felt sample's own noise, and every lagged felt input's through the prediction's
-        gradient at that row (the weights, the products' for the newest two samples, the correction's)."""
+        """(n,) the mean over sensors of `noise_floors`."""
+        return self.noise_floors(features).mean(axis=1)
+
+    def noise_floors(self, features: np.ndarray) -> np.ndarray:
+        """(n, P) the squared residual the extra noise adds to each sensor, in units of its spread, to first order:
+        the felt sample's own noise, and every lagged felt input's through the prediction's gradient at that row
+        (the weights, the products' for the newest two samples, the correction's)."""
         if not self.noise.size or not self.noise.any():
-            return np.zeros(len(features))
+            return np.zeros((len(features), len(self.felt)))
         f, felt, w = self.channels, list(self.felt), self.weights
         z = np.concatenate([features[:, :f], features[:, :f] - features[:, f:2 * f]], axis=1)  # (n, 2F)
         grad = np.einsum("nj,mjp->nmp", z, self._gradient_map)  # d prediction / d z, (n, 2F, P)
@@ -179,7 +189,7 @@ class SurpriseModel:
         if self.correction is not None:
             through += self.correction.gradient(self._inputs(features), rows)
         added = self.noise + np.einsum("r,nrp->np", np.tile(self.noise, LAGS), through ** 2)
-        return (added / self.scale ** 2).mean(axis=1)
+        return added / self.scale ** 2
 
     @cached_property
     def _gradient_map(self) -> np.ndarray:
@@ -211,51 +221,64 @@ class SurpriseModel:
             out[LAGS:, -1] = 1.0
         return out
 
-    def expected(self, inputs: np.ndarray, features: Optional[np.ndarray] = None) -> np.ndarray:
-        """(T,) the squared residual expected of each sample; NaN for the first LAGS."""
-        if len(inputs) <= LAGS:
-            return np.full(len(inputs), np.nan)
-        features = self.features(inputs) if features is None else features
-        out = np.exp(self.design(inputs, features) @ self.spread)
-        out[LAGS:] += self.noise_floor(features)
-        return out
+    def values(self, errors: np.ndarray, design: np.ndarray, floors: np.ndarray,
+               lagged: Optional[np.ndarray] = None) -> np.ndarray:
+        """(T,) each sample's surprise before smoothing, from its residuals (T, P; `residuals`), its design row
+        (T, DESIGN) and the extra noise's squared residual (T, P; `noise_floors`): the mean squared residual over
+        its expectation, averaged with the mean squared innovation over its own (with an innovation). `lagged`:
+        the normalised errors before each row (`innovation.echoes`) where the rows are not a whole series."""
+        motion = np.exp(design @ self.spread)
+        total = motion + floors.mean(axis=1)
+        plain = (errors ** 2).mean(axis=1) / total
+        if self.innovation is None:
+            return plain
+        normal = errors / np.sqrt(total)[:, None]
+        news = self.innovation.news(normal, lagged)
+        expected = self.innovation.expected(design, motion / total, floors / total[:, None])
+        return 0.5 * (plain + (news ** 2).mean(axis=1) / expected)
 
     def series(self, inputs: np.ndarray, states: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
         """(T,) the surprise after each sample of a normalised series (T, F); NaN until the first prediction. And
         (T,) the memory check's residual, smoothed the same way, from the latent model's states (T, H) after each
         sample (all NaN without a memory check or states)."""
-        features = self.features(inputs) if len(inputs) > LAGS else None
-        squared = (self.residuals(inputs, features) ** 2).mean(axis=1)
         memory = (self.memory.residuals(states, inputs) if self.memory is not None and states is not None
                   else np.full(len(inputs), np.nan))
-        return smoothed(squared / self.expected(inputs, features)), smoothed(memory)
+        if len(inputs) <= LAGS:
+            return np.full(len(inputs), np.nan), smoothed(memory)
+        features = self.features(inputs)
+        floors = np.zeros((len(inputs), len(self.felt)))
+        floors[LAGS:] = self.noise_floors(features)
+        values = self.values(self.residuals(inputs, features), self.design(inputs, features), floors)
+        return smoothed(values), smoothed(memory)
 
     def online(self) -> "SurpriseReader":
         return SurpriseReader(self)
 
     def to_state(self) -> dict[str, Any]:
-        return {"kind": KIND, "lags": LAGS, "windows": list(WINDOWS), "smoothing": SMOOTHING,
+        return {"kind": KIND, "lags": LAGS, "windows": list(WINDOWS), "smoothing": SMOOTHING, "echoes": ECHOES,
                 "weights": self.weights.tolist(), "scale": self.scale.tolist(), "spread": self.spread.tolist(),
                 "precision": self.precision.tolist(), "threshold": self.threshold, "felt": list(self.felt),
                 "command": list(self.command),
                 **({"memory": self.memory.to_state()} if self.memory is not None else {}),
-                **({"correction": self.correction.to_state()} if self.correction is not None else {})}
+                **({"correction": self.correction.to_state()} if self.correction is not None else {}),
+                **({"innovation": self.innovation.to_state()} if self.innovation is not None else {})}
 
     @classmethod
     def from_state(cls, state: dict[str, Any]) -> "SurpriseModel":
         felt, command = tuple(int(i) for i in state["felt"]), tuple(int(i) for i in state["command"])
         memory = MemoryCheck.from_state(state["memory"], felt, command) if state.get("memory") else None
         correction = Correction.from_state(state["correction"]) if state.get("correction") else None
+        innovation = Innovation.from_state(state["innovation"]) if state.get("innovation") else None
         return cls(np.asarray(state["weights"], np.float64), np.asarray(state["scale"], np.float64),
                    np.asarray(state["spread"], np.float64), np.asarray(state["precision"], np.float64),
-                   float(state["threshold"]), felt, command, memory, correction)
+                   float(state["threshold"]), felt, command, memory, correction, innovation)
 
     @staticmethod
     def current(state: dict[str, Any]) -> bool:
-        """Whether a checkpoint's surprise state is this softarm's kind (earlier ones knew no novelty)."""
-        settings = [state.get(key) for key in ("kind", "lags", "windows", "smoothing")]
+        """Whether a checkpoint's surprise state is this softarm's kind (earlier ones knew no innovation)."""
+        settings = [state.get(key) for key in ("kind", "lags", "windows", "smoothing", "echoes")]
         plain = all(isinstance(value, (str, int, float, list)) for value in settings)
-        return plain and settings == [KIND, LAGS, list(WINDOWS), SMOOTHING]
+        return plain and settings == [KIND, LAGS, list(WINDOWS), SMOOTHING, ECHOES]
 
 
 FIRST = np.array([2, 1, 2])  # the first sample at which each vigour signal is defined
@@ -314,8 +337,8 @@ def smoothed(values: np.ndarray) -> np.ndarray:
 
 class SurpriseReader:
     """The surprise sample by sample (a robot's loop calls it every 10 ms): the last LAGS samples, from which the
-    forward model's features are built as the batch builds them, the vigour averages, the latent model's last
-    state and the two smoothed values."""
+    forward model's features are built as the batch builds them, the vigour averages, the last ECHOES errors, the
+    latent model's last state and the two smoothed values."""
 
     def __init__(self, model: SurpriseModel):
         self.model = model
@@ -326,6 +349,7 @@ class SurpriseReader:
         self.linear = np.r_[np.arange(model.precision.shape[0] - 1), model.weights.shape[0] - 1]
         self.novelty_shift = model.novelty_inflation
         self.design = np.ones(DESIGN)
+        self.echoes = np.zeros(ECHOES * len(model.felt))  # the last ECHOES normalised errors, newest first
         self.averages = np.full((len(WINDOWS), VIGOURS), np.nan)  # NaN until each signal is defined
         self.rates = 1.0 / np.asarray(WINDOWS)[:, None]
         self.inflation = model.inflation
@@ -346,8 +370,12 @@ class SurpriseReader:
             x = row[0, self.linear]
             length = float(x @ m.precision @ x) / len(x) - self.novelty_shift
             self.design[-2] = np.log(max(length, 0.0) + NOVELTY_FLOOR)  # `SurpriseModel.novelty`
-            values[0] = (float(residual @ residual) / len(residual)
-                         / (float(np.exp(self.design @ m.spread)) + float(m.noise_floor(row)[0])))
+            floors = m.noise_floors(row)
+            values[0] = float(m.values(residual[None], self.design[None], floors, self.echoes[None])[0])
+            if m.innovation is not None:  # this error joins the echoes, newest first (`innovation.echoes`)
+                total = float(np.exp(self.design @ m.spread)) + float(floors.mean())
+                self.echoes[len(residual):] = self.echoes[:-len(residual)].copy()
+                self.echoes[:len(residual)] = residual / np.sqrt(total)
         if m.memory is not None and self.state is not None and np.isfinite(self.state).all():
             values[1] = m.memory.step(self.state, inputs)
         for i, value in enumerate(values):

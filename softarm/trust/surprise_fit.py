@@ -6,18 +6,19 @@ A surprise that only knew the motions it was fitted on would cry wolf on the fir
 the forward model is fitted out of fold: each fold (a motion group of the corpus) is judged by a forward model
 fitted on the other folds' training samples (the folds dealt into `BLOCKS` blocks, for each correction's fit costs
 about a minute on the corpus), and its residuals, set against its vigour and its novelty under that model, fit
-each sensor's spread, the spread map and the alarm's threshold. The forward model the checkpoint keeps is fitted
-on every fold. Samples near a disturbance are left out of all of it: the model learns what undisturbed
-motion feels like.
+each sensor's spread, the spread map, what the last errors foresee of the next (`softarm.trust.innovation`) and
+the alarm's threshold. The forward model the checkpoint keeps is fitted on every fold. Samples near a disturbance
+are left out of all of it: the model learns what undisturbed motion feels like.
 """
 
 from dataclasses import replace
-from typing import NamedTuple, Optional, Sequence
+from typing import Iterable, NamedTuple, Optional, Sequence
 
 import numpy as np
 
 from softarm.trust.alarm import alarm_threshold
 from softarm.trust.correction import fit_correction
+from softarm.trust.innovation import ECHOES, Innovation, echoes
 from softarm.trust.memory_check import MemoryCheck
 from softarm.trust.surprise import DESIGN, LAGS, WINDOWS, SurpriseModel, feature_width, linear_width, smoothed
 
@@ -26,6 +27,7 @@ PRECISION_RIDGE = 1e-6  # added to the linear features' second moment before it 
 MEMORY_RIDGE = 1e-4   # the memory check's, the same way
 SPREAD_RIDGE = 1e-6   # the spread map's L2 penalty per sample
 SPREAD_FLOOR = 1e-3   # added to a squared residual before its logarithm
+ECHO_RIDGE = 1e-6     # the innovation's L2 penalty per sample
 BLOCKS = 5            # blocks the folds are dealt into for judging out of fold (a correction fitted per block)
 
 
@@ -64,17 +66,53 @@ def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence
             features = model.features(piece.inputs)
             judged.append((model.residuals(piece.inputs, features), model.design(piece.inputs, features),
                            _quiet(piece.calm, pad=True), piece.calm))
-    scale = np.maximum(np.sqrt(np.nanmean(np.concatenate([e[q] for e, _, q, _ in judged]) ** 2, axis=0)), 1e-12)
-    squared = [((e / scale) ** 2).mean(axis=1) for e, _, _, _ in judged]
-    settled = [q & (np.arange(len(q)) >= LAGS + max(WINDOWS)) for _, _, q, _ in judged]
-    spread = _ridge([(d, np.log(s + SPREAD_FLOOR)[:, None], k) for (_, d, _, _), s, k in zip(judged, squared, settled)],
-                    SPREAD_RIDGE)[:, 0]
-    ratio = np.concatenate([(s / np.exp(d @ spread))[q] for (_, d, q, _), s in zip(judged, squared)])
-    spread[-1] += np.log(np.nanmean(ratio))
-    series = [(smoothed(s / np.exp(d @ spread)), calm) for (_, d, _, calm), s in zip(judged, squared)]
+    residuals, designs, quiet, calm = (list(part) for part in zip(*judged))
+    scale = _spreads(residuals, quiet)
+    errors = [e / scale for e in residuals]
+    spread = _spread_map(designs, [(e ** 2).mean(axis=1) for e in errors], quiet)
+    innovation = fit_innovation([e / np.sqrt(np.exp(d @ spread))[:, None] for e, d in zip(errors, designs)],
+                                designs, quiet)
+    judge = replace(probe, spread=spread, innovation=innovation)
+    series = [(smoothed(judge.values(e, d, np.zeros_like(e))), c) for e, d, c in zip(errors, designs, calm)]
     threshold = alarm_threshold(series, frame_dt, false_alarms_per_minute)
     full = _forward([folds[f] for f in names], linear, felt, command, device)
-    return replace(full, scale=scale, spread=spread, threshold=threshold)
+    return replace(full, scale=scale, spread=spread, innovation=innovation, threshold=threshold)
+
+
+def fit_innovation(errors: Sequence[np.ndarray], designs: Sequence[np.ndarray], quiet: Sequence[np.ndarray]
+                   ) -> Innovation:
+    """What the last ECHOES errors foresee of the next, by least squares over the quiet samples whose echoes are
+    quiet too, from out-of-fold errors (T, P) in units of their expected spread; then each sensor's spread of what
+    they leave and its spread map on the same design rows."""
+    calm = []
+    for q in quiet:
+        keep = q.copy()
+        for j in range(1, ECHOES + 1):
+            keep[j:] &= q[:-j]
+        keep[:ECHOES] = False
+        calm.append(keep)
+    persistence = _ridge(((echoes(e), e, k) for e, k in zip(errors, calm)), ECHO_RIDGE)  # one piece at a time
+    news = [e - echoes(e) @ persistence for e in errors]
+    scale = _spreads(news, quiet)
+    spread = _spread_map(designs, [((n / scale) ** 2).mean(axis=1) for n in news], quiet)
+    return Innovation(persistence, scale, spread)
+
+
+def _spreads(errors: Sequence[np.ndarray], quiet: Sequence[np.ndarray]) -> np.ndarray:
+    """(P,) each column's root mean square over the quiet rows of every part."""
+    return np.maximum(np.sqrt(np.nanmean(np.concatenate([e[q] for e, q in zip(errors, quiet)]) ** 2, axis=0)), 1e-12)
+
+
+def _spread_map(designs: Sequence[np.ndarray], squared: Sequence[np.ndarray], quiet: Sequence[np.ndarray]
+                ) -> np.ndarray:
+    """(DESIGN,) log expected `squared` (T,) from the design rows (T, DESIGN), by ridge over the quiet samples once
+    the vigour averages have settled, its constant moved so that squared over expected averages 1 when quiet."""
+    settled = [q & (np.arange(len(q)) >= LAGS + max(WINDOWS)) for q in quiet]
+    spread = _ridge([(d, np.log(s + SPREAD_FLOOR)[:, None], k) for d, s, k in zip(designs, squared, settled)],
+                    SPREAD_RIDGE)[:, 0]
+    spread[-1] += np.log(np.nanmean(np.concatenate([(s / np.exp(d @ spread))[q]
+                                                    for d, s, q in zip(designs, squared, quiet)])))
+    return spread
 
 
 def _forward(folds: Sequence["_Sums"], linear: int, felt: tuple[int, ...], command: tuple[int, ...],
@@ -166,7 +204,7 @@ def _quiet(calm: np.ndarray, pad: bool = False) -> np.ndarray:
     return quiet if pad else quiet[LAGS:]
 
 
-def _ridge(parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]], penalty: float,
+def _ridge(parts: Iterable[tuple[np.ndarray, np.ndarray, np.ndarray]], penalty: float,
            unshrunk: Optional[int] = None) -> np.ndarray:
     """Ridge regression of y on x over the kept finite rows of every (x, y, keep) part (`_Sums.solve`)."""
     sums = _Sums(kept=False)

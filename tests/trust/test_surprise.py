@@ -3,12 +3,14 @@ next command to the felt signal (and a product of the newest sample), plus white
 growing with the motion's vigour; the novelty against its expectation; and the streamer's reader against the batch
 series."""
 
+import json
+
 import numpy as np
 import pytest
 
 from softarm.trust import correction
 from softarm.trust.alarm import alarm_onsets, alarm_threshold
-from softarm.trust.surprise import LAGS, SMOOTHING, linear_width, smoothed, vigour_signals
+from softarm.trust.surprise import LAGS, SMOOTHING, SurpriseModel, linear_width, smoothed, vigour_signals
 from softarm.trust.surprise_fit import Piece, fit_surprise
 
 DT = 0.01
@@ -141,6 +143,18 @@ def test_smoothing_is_the_exponential_average_and_the_reader_equals_the_series()
     reader = model.online()
     online = [reader.step(x) for x in inputs]
     np.testing.assert_allclose(np.array(online).T, model.series(inputs), rtol=1e-9)
+
+
+def test_the_state_round_trips_and_an_earlier_kind_is_not_current():
+    """What a checkpoint keeps gives the same surprise back; a surprise of an earlier kind, or fitted without the
+    innovation's echoes, is not read as this one."""
+    model = fitted(linear_world(0, 2000))
+    state = json.loads(json.dumps(model.to_state()))
+    world = linear_world(4, 500)
+    np.testing.assert_allclose(SurpriseModel.from_state(state).series(world)[0], model.series(world)[0], rtol=1e-12)
+    assert model.innovation is not None and SurpriseModel.current(state)
+    assert not SurpriseModel.current({**state, "kind": "novelty"})
+    assert not SurpriseModel.current({key: value for key, value in state.items() if key != "echoes"})
 
 
 def noisier(world: np.ndarray, sigma: float, seed: int) -> np.ndarray:
