@@ -102,12 +102,13 @@ def surprises(surprise: SurpriseModel, corpus: list[dict], residuals: list[np.nd
     """Each recording's surprise from its out-of-fold residuals, as softarm fits it (`fit_surprise`), with or
     without the innovation; the threshold appended last."""
     quiet = [_quiet(c["calm"], pad=True) for c in corpus]
-    errors = [r / _spreads(residuals, quiet) for r in residuals]
+    scale = _spreads(residuals, quiet)
+    errors = [r / scale for r in residuals]
     spread = _spread_map(designs, [(e ** 2).mean(axis=1) for e in errors], quiet)
     innovation = (fit_innovation([e / np.sqrt(np.exp(d @ spread))[:, None] for e, d in zip(errors, designs)],
                                  designs, quiet) if innovated else None)
     judge = replace(surprise, spread=spread, innovation=innovation)
-    series = [smoothed(judge.values(e, d, np.zeros_like(e))) for e, d in zip(errors, designs)]
+    series = [smoothed(judge.values(e, d, np.zeros_like(e))[0]) for e, d in zip(errors, designs)]
     return [*series, alarm_threshold([(s, c["calm"]) for s, c in zip(series, corpus)], 0.01, 1.0)]
 
 

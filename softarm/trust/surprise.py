@@ -169,10 +169,6 @@ class SurpriseModel:
         cov[f:, f:] = 2.0 * np.diag(var)
         return cov[_pairs(f)] @ self.weights[self._products]
 
-    def noise_floor(self, features: np.ndarray) -> np.ndarray:
-        """(n,) the mean over sensors of `noise_floors`."""
-        return self.noise_floors(features).mean(axis=1)
-
     def noise_floors(self, features: np.ndarray) -> np.ndarray:
         """(n, P) the squared residual the extra noise adds to each sensor, in units of its spread, to first order:
         the felt sample's own noise, and every lagged felt input's through the prediction's gradient at that row
@@ -222,20 +218,21 @@ class SurpriseModel:
         return out
 
     def values(self, errors: np.ndarray, design: np.ndarray, floors: np.ndarray,
-               lagged: Optional[np.ndarray] = None) -> np.ndarray:
+               lagged: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
         """(T,) each sample's surprise before smoothing, from its residuals (T, P; `residuals`), its design row
         (T, DESIGN) and the extra noise's squared residual (T, P; `noise_floors`): the mean squared residual over
-        its expectation, averaged with the mean squared innovation over its own (with an innovation). `lagged`:
-        the normalised errors before each row (`innovation.echoes`) where the rows are not a whole series."""
+        its expectation, averaged with the mean squared innovation over its own (with an innovation). And (T, P)
+        the residuals in units of their expected spread, the errors the innovation reads (`innovation.echoes`).
+        `lagged`: those errors before each row where the rows are not a whole series (the streamer's)."""
         motion = np.exp(design @ self.spread)
         total = motion + floors.mean(axis=1)
         plain = (errors ** 2).mean(axis=1) / total
-        if self.innovation is None:
-            return plain
         normal = errors / np.sqrt(total)[:, None]
+        if self.innovation is None:
+            return plain, normal
         news = self.innovation.news(normal, lagged)
         expected = self.innovation.expected(design, motion / total, floors / total[:, None])
-        return 0.5 * (plain + (news ** 2).mean(axis=1) / expected)
+        return 0.5 * (plain + (news ** 2).mean(axis=1) / expected), normal
 
     def series(self, inputs: np.ndarray, states: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
         """(T,) the surprise after each sample of a normalised series (T, F); NaN until the first prediction. And
@@ -248,7 +245,7 @@ class SurpriseModel:
         features = self.features(inputs)
         floors = np.zeros((len(inputs), len(self.felt)))
         floors[LAGS:] = self.noise_floors(features)
-        values = self.values(self.residuals(inputs, features), self.design(inputs, features), floors)
+        values, _ = self.values(self.residuals(inputs, features), self.design(inputs, features), floors)
         return smoothed(values), smoothed(memory)
 
     def online(self) -> "SurpriseReader":
@@ -370,12 +367,11 @@ class SurpriseReader:
             x = row[0, self.linear]
             length = float(x @ m.precision @ x) / len(x) - self.novelty_shift
             self.design[-2] = np.log(max(length, 0.0) + NOVELTY_FLOOR)  # `SurpriseModel.novelty`
-            floors = m.noise_floors(row)
-            values[0] = float(m.values(residual[None], self.design[None], floors, self.echoes[None])[0])
+            value, normal = m.values(residual[None], self.design[None], m.noise_floors(row), self.echoes[None])
+            values[0] = float(value[0])
             if m.innovation is not None:  # this error joins the echoes, newest first (`innovation.echoes`)
-                total = float(np.exp(self.design @ m.spread)) + float(floors.mean())
                 self.echoes[len(residual):] = self.echoes[:-len(residual)].copy()
-                self.echoes[:len(residual)] = residual / np.sqrt(total)
+                self.echoes[:len(residual)] = normal[0]
         if m.memory is not None and self.state is not None and np.isfinite(self.state).all():
             values[1] = m.memory.step(self.state, inputs)
         for i, value in enumerate(values):

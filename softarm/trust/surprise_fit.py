@@ -73,7 +73,7 @@ def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence
     innovation = fit_innovation([e / np.sqrt(np.exp(d @ spread))[:, None] for e, d in zip(errors, designs)],
                                 designs, quiet)
     judge = replace(probe, spread=spread, innovation=innovation)
-    series = [(smoothed(judge.values(e, d, np.zeros_like(e))), c) for e, d, c in zip(errors, designs, calm)]
+    series = [(smoothed(judge.values(e, d, np.zeros_like(e))[0]), c) for e, d, c in zip(errors, designs, calm)]
     threshold = alarm_threshold(series, frame_dt, false_alarms_per_minute)
     full = _forward([folds[f] for f in names], linear, felt, command, device)
     return replace(full, scale=scale, spread=spread, innovation=innovation, threshold=threshold)

@@ -66,5 +66,5 @@ def test_the_correction_takes_what_the_ridge_leaves_and_the_noise_floor_matches_
     noisy[:, 0] += np.random.default_rng(8).normal(0.0, np.sqrt(variance), len(test))
     heard = model.heard_through(np.array([variance]))
     added = np.mean(heard.residuals(noisy)[LAGS:] ** 2) - np.mean(model.residuals(test)[LAGS:] ** 2)
-    floor = np.mean(heard.noise_floor(heard.features(noisy)))
+    floor = np.mean(heard.noise_floors(heard.features(noisy)).mean(axis=1))
     assert abs(added - floor) < 0.15 * floor

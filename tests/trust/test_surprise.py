@@ -175,7 +175,7 @@ def test_noise_the_model_is_told_of_is_expected_not_surprising():
     assert plain > 8.0 and abs(np.nanmean(surprise) - 1.0) < 0.15
     reader = told.online()
     np.testing.assert_allclose([reader.step(x)[0] for x in world[:800]], surprise[:800], rtol=1e-9)
-    assert not model.heard_through(np.zeros(len(FELT))).noise_floor(model.features(world)).any()
+    assert not model.heard_through(np.zeros(len(FELT))).noise_floors(model.features(world)).any()
 
 
 @pytest.mark.slow
@@ -189,7 +189,7 @@ def test_the_noise_terms_match_what_noise_adds_to_the_residuals_and_the_vigour()
     noisy = noisier(clean, 0.2, 8)
     extra = (np.nanmean((told.residuals(noisy) ** 2).mean(axis=1))
              - np.nanmean((model.residuals(clean) ** 2).mean(axis=1)))
-    assert abs(extra / np.mean(told.noise_floor(told.features(noisy))) - 1.0) < 0.05
+    assert abs(extra / np.mean(told.noise_floors(told.features(noisy)).mean(axis=1)) - 1.0) < 0.05
     bias = np.nanmean(model.residuals(noisy), axis=0) - np.nanmean(model.residuals(clean), axis=0)
     np.testing.assert_allclose(np.nanmean(told.residuals(noisy), axis=0) - np.nanmean(
         model.residuals(clean), axis=0), 0.0, atol=0.02)  # the products' bias taken off the prediction
