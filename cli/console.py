@@ -4,13 +4,14 @@ warnings, progress bars), and the one rule that turns a user's mistake into one 
 import os
 import sys
 import warnings
-from typing import Callable, TypeVar
+from typing import Callable, NoReturn, TypeVar
 
 import typer
 from rich.console import Console
 
 from softarm.errors import SoftarmError
 
+_interruption_said: list[str] = []  # the line an interrupted command ended with
 LOG_WIDTH = 200  # columns of a stream that is no terminal (a log): tables keep every column whole there
 
 
@@ -40,14 +41,25 @@ def run_or_exit(action: Callable[[], T]) -> T:
     try:
         return action()
     except KeyboardInterrupt as e:  # softarm.interrupt.Escalated (a second Ctrl-C) says what stays on disk
-        err.print(f"interrupted: {e}" if str(e) else "interrupted", markup=False)
-        raise typer.Exit(130) from None
+        stop_interrupted(f"interrupted: {e}" if str(e) else "interrupted")
     except SoftarmError as e:
         err.print(f"error: {e}", markup=False)
         raise typer.Exit(1) from None
     except OSError as e:
         err.print(f"error: {e.strerror or e}" + (f": {e.filename}" if e.filename else ""), markup=False)
         raise typer.Exit(1) from None
+
+
+def stop_interrupted(line: str) -> NoReturn:
+    """End an interrupted command: its one line ("interrupted: ..." and what it kept) and exit code 130."""
+    _interruption_said.append(line)
+    err.print(line, markup=False)
+    raise typer.Exit(130)
+
+
+def interruption_said() -> bool:
+    """Whether the command said why it stopped: a request it could not turn into its own line still gets one."""
+    return bool(_interruption_said)
 
 
 def say(text: str) -> None:

@@ -4,7 +4,7 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from softarm_cli.console import complain, err, out, run_or_exit, say
+from softarm_cli.console import err, out, run_or_exit, say, stop_interrupted
 from softarm_cli.options import Arch, ConfigFile, Quiet
 from softarm_cli.progress import LazyProgress
 
@@ -34,8 +34,7 @@ def babble(
         result = run_or_exit(lambda: record(folder, episodes, seconds, task, cfg, seed=seed, arch=arch,
                                             progress=bar.update))
     if not result.complete:
-        complain(f"interrupted: kept {len(result.paths)} episode(s) in {folder}, the last cut short "
-                 "(complete = false)" if result.paths else f"interrupted: no episode was written to {folder}")
-        raise typer.Exit(130)
+        stop_interrupted(f"interrupted: kept {len(result.paths)} episode(s) in {folder}, the last cut short "
+                         "(complete = false)" if result.paths else f"interrupted: no episode was written to {folder}")
     if not quiet:
         say(f"wrote {len(result.paths)} episode(s) of {seconds:g} s to {folder}")

@@ -4,7 +4,7 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from softarm_cli.console import complain, err, out, run_or_exit, say
+from softarm_cli.console import err, out, run_or_exit, say, stop_interrupted
 from softarm_cli.options import Force
 from softarm_cli.progress import StagedProgress
 from softarm_cli.tables import metrics_table, replay_table
@@ -26,12 +26,11 @@ def demo(
     with StagedProgress(err, STAGES, log=out) as progress:
         result = run_or_exit(lambda: run_demo(folder, force=force, progress=progress))
     if result.stopped_in == "simulating":
-        complain(f"interrupted: kept {result.simulated.frames} frames in {result.outputs['recording']}; "
-                 "the demo stops here")
-        raise typer.Exit(130)
+        stop_interrupted(f"interrupted: kept {result.simulated.frames} frames in {result.outputs['recording']}; "
+                         "the demo stops here")
     if result.stopped_in == "training":
-        complain(f"interrupted: {result.outputs['checkpoint']} holds the last finished epoch; the demo stops here")
-        raise typer.Exit(130)
+        stop_interrupted(f"interrupted: {result.outputs['checkpoint']} holds the last finished epoch; the demo "
+                         "stops here")
     out.print(metrics_table(result.trained.metrics))
     out.print(replay_table(result.replayed.metrics))
     for label, path in result.outputs.items():

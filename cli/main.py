@@ -1,24 +1,22 @@
 """The `softarm` command line: one module per command group parses options, calls the softarm library and
 prints; this one gathers them under one app."""
 
-import signal
 import sys
 from typing import Annotated, Optional
 
 import typer
-from softarm_cli.console import err, out
+from softarm_cli.console import err, interruption_said, out
 from softarm_cli.control import babble
 from softarm_cli.demo import demo
 from softarm_cli.imagination import evaluate, replay
 from softarm_cli.real import import_log, robot_log
 from softarm_cli.recording import corpus, sim, suite
+from softarm_cli.stopping import ignore_requests, interrupt_as_ctrl_c
 from softarm_cli.study import study
 from softarm_cli.training import adapt, train
 
 from softarm import __version__
 from softarm.config import DEFAULT_CONFIG_TEXT
-from softarm.interrupt import SIGNALS as STOP_SIGNALS
-from softarm.interrupt import requested
 
 # Plain help (no rich markup): rich would read every "[default: ...]" as a markup tag and drop it,
 # and would show flags as if they took a <bool> value.
@@ -57,11 +55,11 @@ app.command("robot-log")(robot_log)
 def main() -> int:
     """The `softarm` console script: the app, with a command line it cannot parse (an unknown option, a value of the
     wrong kind, a missing argument) refused in one line and exit code 2, as every other mistake is in one line;
-    and SIGTERM and SIGHUP stopping a command as Ctrl-C does (`interrupt_as_ctrl_c`)."""
+    and SIGTERM and SIGHUP stopping a command as Ctrl-C does (`softarm_cli.stopping`)."""
     interrupt_as_ctrl_c()
     command = typer.main.get_command(app)
     try:
-        return int(command.main(args=sys.argv[1:], prog_name="softarm", standalone_mode=False) or 0)
+        code = int(command.main(args=sys.argv[1:], prog_name="softarm", standalone_mode=False) or 0)
     except typer.TyperException as e:  # click's usage errors, as Typer carries them
         if type(e).__name__ == "NoArgsIsHelpError":  # `softarm` alone, or a group without its command: the help
             out.print(e.format_message(), markup=False)
@@ -69,29 +67,13 @@ def main() -> int:
         hint = f" (softarm {e.ctx.info_name} -h for help)" if getattr(e, "ctx", None) and e.ctx.parent else ""
         err.print(f"error: {e.format_message()}{hint}", markup=False)
         return getattr(e, "exit_code", 2)
-    except typer.Abort:  # a stop request outside a library call (while a command imports torch): click made it Abort
+    except typer.Abort:  # a stop request outside a library call (while a command parses), as older Typers say it
+        code = 130
+    finally:
+        ignore_requests()
+    if code == 130 and not interruption_said():  # newer Typers turn that request into exit code 130 silently
         err.print("interrupted", markup=False)
-        return 130
-    finally:  # the command has answered: a request now would only kill Python while it shuts down (exit -2)
-        for sig in STOP_SIGNALS:
-            signal.signal(sig, signal.SIG_IGN)
-
-
-def interrupt_as_ctrl_c() -> None:
-    """SIGINT, SIGTERM (`timeout`, schedulers, container stops) and SIGHUP (a closed terminal) all stop a command as
-    Ctrl-C does: a KeyboardInterrupt, so that every output is cleaned up on the way out (its `.part` removed, its
-    lock released) and the command says "interrupted" and exits 130. Signals after the first are ignored while that
-    cleanup runs, so a second one cannot cut it short and leave a lock behind. A long job's own handler
-    (`softarm.interrupt.stop_on_signal`: stop at the next safe point, a second request at once) takes over while it
-    runs."""
-    def interrupt(signum: int, frame: object) -> None:
-        for sig in STOP_SIGNALS:
-            signal.signal(sig, signal.SIG_IGN)
-        if not requested():  # a job that honoured a request already is on its way out: let it finish that
-            raise KeyboardInterrupt()
-
-    for sig in STOP_SIGNALS:
-        signal.signal(sig, interrupt)
+    return code
 
 
 if __name__ == "__main__":

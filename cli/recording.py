@@ -5,7 +5,7 @@ from pathlib import Path
 from typing import Annotated, Optional
 
 import typer
-from softarm_cli.console import complain, err, out, run_or_exit, say
+from softarm_cli.console import err, out, run_or_exit, say, stop_interrupted
 from softarm_cli.options import Arch, ConfigFile, D, Force, Quiet
 from softarm_cli.progress import LazyProgress
 
@@ -42,8 +42,7 @@ def sim(
     files = ", ".join(str(p) for p in result.paths)
     size = result.bytes / 1e6
     if not result.complete:
-        complain(f"interrupted: kept {result.frames} frames per arm in {files} ({size:.1f} MB, complete = false)")
-        raise typer.Exit(130)
+        stop_interrupted(f"interrupted: kept {result.frames} frames per arm in {files} ({size:.1f} MB, complete = false)")
     if not quiet:
         say(f"wrote {result.frames} frames x {len(result.paths)} arm(s) to {files} ({size:.1f} MB) in "
             f"{result.wall_seconds:.1f} s: {result.real_time_factor:.0f}x real time")
@@ -69,8 +68,7 @@ def corpus(
         manifest = run_or_exit(lambda: write_corpus(folder, preset=preset, arms=arms, duration=duration, force=force,
                                                     arch=arch, progress=bar.update))
     if manifest is None:
-        complain(f"interrupted: {folder} holds part of the corpus and no corpus.json; run the command again")
-        raise typer.Exit(130)
+        stop_interrupted(f"interrupted: {folder} holds part of the corpus and no corpus.json; run the command again")
     if not quiet:
         written = json.loads(manifest.read_text())["arms"]
         say(f"wrote a {preset} corpus of {written} arm(s) x {duration:g} s to {folder}")
@@ -92,7 +90,6 @@ def suite(
     with LazyProgress(err, "suite", 1, "arm-frames", quiet=quiet, log=out) as bar:
         manifest = run_or_exit(lambda: write_suite(folder, force=force, arch=arch, progress=bar.update))
     if manifest is None:
-        complain(f"interrupted: {folder} holds part of the suite and no suite.json; run the command again")
-        raise typer.Exit(130)
+        stop_interrupted(f"interrupted: {folder} holds part of the suite and no suite.json; run the command again")
     if not quiet:
         say(f"wrote {SUITE_VERSION} to {folder} ({manifest.name} and its recordings)")

@@ -4,7 +4,7 @@ from pathlib import Path
 from typing import Annotated, Optional
 
 import typer
-from softarm_cli.console import complain, err, out, run_or_exit, say
+from softarm_cli.console import complain, err, out, run_or_exit, say, stop_interrupted
 from softarm_cli.options import Device, Quiet
 from softarm_cli.progress import StagedProgress
 
@@ -39,9 +39,8 @@ def study(
                                                force=force, progress=progress, device=device))
     finished = sum(r.status != "pending" for r in result.records)
     if not result.complete:
-        complain(f"interrupted: {out_dir / 'trials.jsonl'} keeps {finished} of {len(result.records)} trials; run the "
-                 "command again to run the rest")
-        raise typer.Exit(130)
+        stop_interrupted(f"interrupted: {out_dir / 'trials.jsonl'} keeps {finished} of {len(result.records)} trials; "
+                         "run the command again to run the rest")
     if not quiet:
         say(results_table(result.study, result.records))
         for label, path in (("results", result.results), ("table", result.markdown), ("plot", result.png)):

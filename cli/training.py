@@ -4,7 +4,7 @@ from pathlib import Path
 from typing import Annotated, Optional
 
 import typer
-from softarm_cli.console import complain, err, out, run_or_exit, say
+from softarm_cli.console import err, out, run_or_exit, say, stop_interrupted
 from softarm_cli.options import DEVICE_HELP, Checkpoint, ConfigFile, D, Device, Force, Quiet
 from softarm_cli.progress import StagedProgress
 from softarm_cli.tables import metrics_table
@@ -56,12 +56,10 @@ def train(
                                                   stages=lambda stage, done, total: staged(stage, done, total)))
     if not result.complete:
         if result.saved:
-            complain(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm train "
-                     f"{' '.join(map(str, recordings))} --out {result.checkpoint} --resume")
-        else:
-            earlier = f"; {result.checkpoint} is still the earlier run's" if result.checkpoint.exists() else ""
-            complain(f"interrupted before the first epoch finished: nothing was written{earlier}")
-        raise typer.Exit(130)
+            stop_interrupted(f"interrupted: {result.checkpoint} holds the last finished epoch; continue with softarm "
+                             f"train {' '.join(map(str, recordings))} --out {result.checkpoint} --resume")
+        earlier = f"; {result.checkpoint} is still the earlier run's" if result.checkpoint.exists() else ""
+        stop_interrupted(f"interrupted before the first epoch finished: nothing was written{earlier}")
     if not quiet:
         out.print(metrics_table(result.metrics))
         say(f"checkpoint {result.checkpoint}, metrics {result.metrics_path}, {result.wall_seconds:.0f} s")
