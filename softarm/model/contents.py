@@ -60,14 +60,14 @@ def _surprise(value: Any) -> bool:
     if not isinstance(value, dict):
         return False
     try:
-        weights, scale = (torch.tensor(value["weights"], dtype=torch.float64),
-                          torch.tensor(value["scale"], dtype=torch.float64))
-        spread = torch.tensor(value.get("spread", [0.0]), dtype=torch.float64)
+        weights, scale = (torch.as_tensor(value["weights"], dtype=torch.float64),
+                          torch.as_tensor(value["scale"], dtype=torch.float64))
+        spread = torch.as_tensor(value.get("spread", [0.0]), dtype=torch.float64)
         felt, command = list(value["felt"]), list(value["command"])
         threshold = float(value["threshold"])
         memory = value.get("memory", {"weights": value["weights"], "scale": value["scale"]})
-        memory = (torch.tensor(memory["weights"], dtype=torch.float64),
-                  torch.tensor(memory["scale"], dtype=torch.float64))
+        memory = (torch.as_tensor(memory["weights"], dtype=torch.float64),
+                  torch.as_tensor(memory["scale"], dtype=torch.float64))
     except (KeyError, IndexError, TypeError, ValueError, RuntimeError, OverflowError):
         return False
     return (all(w.ndim == 2 and s.ndim == 1 and w.shape[1] == len(s) == len(felt) > 0 and w.shape[0] > len(command)
@@ -80,7 +80,7 @@ def _calibration(value: Any) -> bool:
     if not isinstance(value, dict):
         return False
     try:
-        weights, spread = torch.tensor(value["weights"], dtype=torch.float64), float(value["spread"])
+        weights, spread = torch.as_tensor(value["weights"], dtype=torch.float64), float(value["spread"])
     except (KeyError, IndexError, TypeError, ValueError, RuntimeError, OverflowError):
         return False
     return weights.ndim == 1 and len(weights) >= 2 and bool(torch.isfinite(weights).all()) and spread >= 0

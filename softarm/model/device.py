@@ -44,9 +44,13 @@ def array_of(tensor: torch.Tensor) -> np.ndarray:
 
 
 def on_cpu(value: Any) -> Any:
-    """`value` (nested dicts, lists and tuples of tensors, numbers and strings) with every tensor on the CPU."""
+    """`value` (nested dicts, lists and tuples of tensors, arrays, numbers and strings) with every tensor on the CPU
+    and every NumPy array a CPU tensor of its dtype: torch reads a tensor back at once where a list of numbers goes
+    through its restricted unpickler number by number (0.2 s for the surprise's 86 000 floats)."""
     if isinstance(value, torch.Tensor):
         return value.cpu()
+    if isinstance(value, np.ndarray):
+        return torch.from_numpy(np.ascontiguousarray(value))
     if isinstance(value, dict):
         return {key: on_cpu(item) for key, item in value.items()}
     if isinstance(value, (list, tuple)):

@@ -56,8 +56,7 @@ class Correction:
         return through.transpose(0, 2, 1)
 
     def to_state(self) -> dict[str, Any]:
-        return {"mean": self.mean.tolist(), "std": self.std.tolist(), "gain": self.gain.tolist(),
-                "layers": [[w.tolist(), b.tolist()] for w, b in self.layers]}
+        return {"mean": self.mean, "std": self.std, "gain": self.gain, "layers": [[w, b] for w, b in self.layers]}
 
     @classmethod
     def from_state(cls, state: dict[str, Any]) -> "Correction":

@@ -58,8 +58,7 @@ class Innovation:
         return expected + (noise @ self.noise_gain).mean(axis=1) if noise.any() else expected
 
     def to_state(self) -> dict[str, Any]:
-        return {"echoes": ECHOES, "persistence": self.persistence.tolist(), "scale": self.scale.tolist(),
-                "spread": self.spread.tolist()}
+        return {"echoes": ECHOES, "persistence": self.persistence, "scale": self.scale, "spread": self.spread}
 
     @classmethod
     def from_state(cls, state: dict[str, Any]) -> "Innovation":

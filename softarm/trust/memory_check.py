@@ -41,7 +41,7 @@ class MemoryCheck:
         return float((((inputs[list(self.felt)] - expected) / self.scale) ** 2).mean())
 
     def to_state(self) -> dict[str, Any]:
-        return {"weights": self.weights.tolist(), "scale": self.scale.tolist()}
+        return {"weights": self.weights, "scale": self.scale}
 
     @classmethod
     def from_state(cls, state: dict[str, Any], felt: tuple[int, ...], command: tuple[int, ...]) -> "MemoryCheck":

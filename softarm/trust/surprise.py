@@ -253,8 +253,8 @@ class SurpriseModel:
 
     def to_state(self) -> dict[str, Any]:
         return {"kind": KIND, "lags": LAGS, "windows": list(WINDOWS), "smoothing": SMOOTHING, "echoes": ECHOES,
-                "weights": self.weights.tolist(), "scale": self.scale.tolist(), "spread": self.spread.tolist(),
-                "precision": self.precision.tolist(), "threshold": self.threshold, "felt": list(self.felt),
+                "weights": self.weights, "scale": self.scale, "spread": self.spread, "precision": self.precision,
+                "threshold": self.threshold, "felt": list(self.felt),
                 "command": list(self.command),
                 **({"memory": self.memory.to_state()} if self.memory is not None else {}),
                 **({"correction": self.correction.to_state()} if self.correction is not None else {}),

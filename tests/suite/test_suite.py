@@ -3,6 +3,7 @@ the camera's view), and `softarm evaluate` on it beside the baselines."""
 
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,15 +22,17 @@ from softarm.suite.families import (
 )
 from softarm.suite.manifest import read_suite
 from tests.helpers.cli import assert_one_line_error, softarm
+from tests.helpers.shared import made_once
 
 
 @pytest.fixture(scope="session")
 def suite_folder(tmp_path_factory):
-    """The whole suite, written by the real command (about 25 s here)."""
-    folder = tmp_path_factory.mktemp("suite")
-    result = softarm("suite", str(folder), "-q", cwd=folder, timeout=300)
-    assert result.returncode == 0, result.stderr
-    return folder
+    """The whole suite, written by the real command once for every worker (about 25 s here)."""
+    def write(folder: Path) -> None:
+        result = softarm("suite", str(folder), "-q", cwd=folder, timeout=300)
+        assert result.returncode == 0, result.stderr
+
+    return made_once(tmp_path_factory, "suite", write)
 
 
 def test_at_least_six_families_each_at_two_levels_from_reserved_seeds():
