@@ -52,7 +52,7 @@ def saturating_world(seed: int, length: int = 12000, noise: float = 0.02) -> np.
 
 @pytest.mark.slow
 def test_the_correction_takes_what_the_ridge_leaves_and_the_noise_floor_matches_what_noise_adds():
-    worlds = [saturating_world(seed) for seed in range(3)]
+    worlds = [saturating_world(seed) for seed in range(2)]
     model = fit_surprise([Piece(w, np.ones(len(w), bool), np.ones(len(w), bool), f"w{n}")
                           for n, w in enumerate(worlds)], [0], [1], DT, 1.0)
     test = saturating_world(7)
