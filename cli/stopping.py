@@ -12,7 +12,7 @@ import threading
 from typing import Any
 
 from softarm.interrupt import SIGNALS as STOP_SIGNALS
-from softarm.interrupt import Escalated, requested
+from softarm.interrupt import Escalated, raised_outside, requested
 
 AGAIN_AFTER = 0.005  # s: a request a finalizer swallowed comes again this soon, out of the finalizer
 
@@ -37,6 +37,7 @@ def ignore_requests() -> None:
 def _interrupt(signum: int, frame: object) -> None:
     ignore_requests()
     if not requested():  # a job that honoured a request already is on its way out: let it finish that
+        raised_outside(signum)  # should the KeyboardInterrupt be swallowed, the next job starts stopped
         raise KeyboardInterrupt()
 
 

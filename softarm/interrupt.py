@@ -11,6 +11,7 @@ from typing import Iterator
 
 _open: list[list[int]] = []  # the flags of the stop_on_signal blocks in force, innermost last
 _heard: list[int] = []       # every stop request any block caught in this process
+_raised: list[int] = []      # stop requests raised as KeyboardInterrupt outside any block (`raised_outside`)
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
@@ -18,6 +19,13 @@ def requested() -> bool:
     """Whether a stop request was caught in this process: a job is winding down (the command line then ignores
     the requests that follow it instead of cutting its cleanup short)."""
     return bool(_heard)
+
+
+def raised_outside(signum: int) -> None:
+    """A stop request the command line raised as KeyboardInterrupt while no job was running. Code that swallows
+    it (a C extension's initialisation, a callback from C++) leaves the command running with further requests
+    ignored; so a job that starts after it starts with the request caught, and stops at its first safe point."""
+    _raised.append(signum)
 
 
 class Escalated(KeyboardInterrupt):
@@ -40,9 +48,10 @@ def stop_on_signal() -> Iterator[list[int]]:
 
     Blocks nest (a suite's levels each run a simulation): an inner block starts with the requests its outer one
     has caught, and passes the ones it catches on to it when it ends, so a request that came before the inner
-    job started, or as it finished, still stops both.
+    job started, or as it finished, still stops both. An outermost block starts with the requests raised before
+    it outside any job (`raised_outside`).
     """
-    inherited = list(_open[-1]) if _open else []
+    inherited = list(_open[-1]) if _open else list(_raised)
     caught = list(inherited)
     handlers = {}
 

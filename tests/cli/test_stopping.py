@@ -3,6 +3,7 @@ parses, which turns the KeyboardInterrupt into a silent exit code 130. Each case
 handlers are the process's), and the finalizer receives the request for certain: it signals itself and then runs
 bytecode, where Python calls the handler."""
 
+import signal
 import subprocess
 import sys
 import textwrap
@@ -59,6 +60,23 @@ def test_a_second_request_a_finalizer_swallowed_still_escalates():
     assert result.stdout.splitlines() == ["the finalizer returned", "escalated after 3 requests"], \
         result.stdout + result.stderr
     assert result.stderr == ""
+
+
+def test_a_request_code_swallowed_before_a_job_started_stops_the_job_at_once():
+    """Code that catches the KeyboardInterrupt (a C extension's initialisation turns it into an ImportError) leaves
+    the command running, its handlers set to ignore further requests: the job that starts next starts stopped."""
+    result = run_python(FINALIZED + """
+    try:
+        os.kill(os.getpid(), signal.SIGINT)
+        for _ in range(1000):  # the handler runs here
+            pass
+    except KeyboardInterrupt:
+        pass  # swallowed
+    os.kill(os.getpid(), signal.SIGINT)  # a second request: ignored while the first is honoured
+    with stop_on_signal() as caught:
+        print("the job starts with", caught, flush=True)
+    """)
+    assert result.stdout.splitlines() == [f"the job starts with [{int(signal.SIGINT)}]"], result.stdout + result.stderr
 
 
 def test_other_errors_in_finalizers_are_still_reported():
