@@ -9,10 +9,11 @@ import os
 import signal
 import sys
 import threading
-from typing import Any
+from types import FrameType
+from typing import Any, Optional
 
 from softarm.interrupt import SIGNALS as STOP_SIGNALS
-from softarm.interrupt import Escalated, raised_outside, requested
+from softarm.interrupt import Escalated, raise_in_own_code, raised_outside, requested
 
 AGAIN_AFTER = 0.005  # s: a request a finalizer swallowed comes again this soon, out of the finalizer
 
@@ -34,11 +35,11 @@ def ignore_requests() -> None:
         signal.signal(sig, signal.SIG_IGN)
 
 
-def _interrupt(signum: int, frame: object) -> None:
+def _interrupt(signum: int, frame: Optional[FrameType]) -> None:
     ignore_requests()
     if not requested():  # a job that honoured a request already is on its way out: let it finish that
         raised_outside(signum)  # should the KeyboardInterrupt be swallowed, the next job starts stopped
-        raise KeyboardInterrupt()
+        raise_in_own_code(KeyboardInterrupt(), frame)
 
 
 def swallowed_requests_come_again(unraisable: Any) -> None:

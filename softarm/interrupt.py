@@ -6,8 +6,14 @@ ends at once with what is on disk.
 """
 
 import signal
+import site
+import sys
+import sysconfig
 from contextlib import contextmanager
-from typing import Iterator
+from functools import cache
+from pathlib import Path
+from types import FrameType
+from typing import Any, Callable, Iterator, Optional
 
 _open: list[list[int]] = []  # the flags of the stop_on_signal blocks in force, innermost last
 _heard: list[int] = []       # every stop request any block caught in this process
@@ -55,11 +61,11 @@ def stop_on_signal() -> Iterator[list[int]]:
     caught = list(inherited)
     handlers = {}
 
-    def handle(signum: int, _frame: object) -> None:
+    def handle(signum: int, frame: Optional[FrameType]) -> None:
         caught.append(signum)
         _heard.append(signum)
         if len(caught) > 1:
-            raise Escalated()
+            raise_in_own_code(Escalated(), frame)
 
     for sig in SIGNALS:
         try:
@@ -75,3 +81,94 @@ def stop_on_signal() -> Iterator[list[int]]:
             signal.signal(sig, old)
         if _open:
             _open[-1].extend(caught[len(inherited):])
+
+
+
+def raise_in_own_code(error: BaseException, frame: Optional[FrameType]) -> None:
+    """Raise `error` from a signal handler where the main thread is (`frame`), unless it is running a library's
+    Python: C++ may have called that (torch, Taichi, through pybind11), and an exception there aborts the whole
+    process ("terminate called after throwing an instance of 'pybind11::error_already_set'", exit -6, locks and
+    `.part` files left behind). Then `error` waits for the main thread to reach softarm's or its user's code again:
+    the caller the library returns to (at its next line) or a function of theirs the library calls (at its start),
+    whichever comes first: milliseconds in a torch operation's Python, a second or two in an import of torch."""
+    caller = _own_caller(frame)
+    if caller is None:
+        raise error
+    if not _pending:
+        _pending.append(sys.gettrace())
+    _pending[1:] = [error, caller]
+    caller.f_trace = _at_next_line
+    sys.settrace(_until_own_code)
+
+
+_pending: list[Any] = []  # a deferred stop: the trace function before it, the error, the frame to raise it in
+
+
+def _own_caller(frame: Optional[FrameType]) -> Optional[FrameType]:
+    """None where `frame` runs softarm's code, its user's, or the standard library's called from them; else the
+    nearest caller that does."""
+    while frame is not None and _kind(frame) == "standard":
+        frame = frame.f_back
+    if frame is None or _kind(frame) != "library":
+        return None
+    while frame is not None and _kind(frame) != "own":
+        frame = frame.f_back
+    return frame
+
+
+def _due() -> BaseException:
+    """The deferred stop, tracing as it was before it."""
+    before, error, frame = _pending
+    _pending.clear()
+    frame.f_trace = None
+    sys.settrace(before)
+    return error
+
+
+def _until_own_code(frame: FrameType, event: str, _arg: Any) -> None:
+    """The trace function while a stop waits: own code a library calls raises it at its start; no frame is traced
+    for its own sake."""
+    if _pending and event == "call" and _kind(frame) == "own":
+        raise _due()
+
+
+def _at_next_line(frame: FrameType, event: str, _arg: Any) -> Optional[Callable[..., Any]]:
+    """The waiting frame's trace function: its next line raises the stop; should it return first, its caller
+    waits instead."""
+    if not _pending or _pending[2] is not frame:
+        return None
+    if event == "exception":
+        return _at_next_line
+    if event == "line" or frame.f_back is None:
+        raise _due()
+    frame.f_trace = None
+    _pending[2] = _own_caller(frame.f_back) or frame.f_back
+    _pending[2].f_trace = _at_next_line
+    return None
+
+
+def _kind(frame: FrameType) -> str:
+    """"library" (an installed package's code, softarm's own excepted), "standard" (Python's library) or "own"."""
+    file = frame.f_code.co_filename
+    if file.startswith("<frozen "):
+        return "standard"
+    own, libraries, standard = _roots()
+    if file.startswith(own):
+        return "own"
+    if file.startswith(libraries):
+        return "library"
+    return "standard" if file.startswith(standard) else "own"
+
+
+@cache
+def _roots() -> tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    """The folders of softarm's code (the command line's included, once imported), of installed packages, and of
+    Python's library (which may hold site-packages: libraries are told first)."""
+    packages = [sys.modules[name] for name in ("softarm", "softarm_cli") if name in sys.modules]
+    own = tuple(folder.rstrip("/") + "/" for package in packages for folder in package.__path__)
+    paths = sysconfig.get_paths()
+    folders = [*site.getsitepackages(), site.getusersitepackages(), paths["purelib"], paths["platlib"],
+               *(p for p in sys.path if Path(p).name in ("site-packages", "dist-packages"))]
+    libraries = tuple({folder.rstrip("/") + "/" for f in folders for folder in (f, str(Path(f).resolve()))})
+    standard = tuple({paths[k].rstrip("/") + "/" for k in ("stdlib", "platstdlib")})
+    return own, libraries, standard

@@ -1,12 +1,16 @@
 """Stop requests where Python would lose them: inside a finalizer, which drops what it raises, and while Typer
-parses, which turns the KeyboardInterrupt into a silent exit code 130. Each case runs in its own interpreter (the
-handlers are the process's), and the finalizer receives the request for certain: it signals itself and then runs
+parses, which turns the KeyboardInterrupt into a silent exit code 130; and where raising them would abort Python:
+inside a library's code, which C++ may have called. Each case runs in its own interpreter (the handlers are the
+process's), and the finalizer or the library receives the request for certain: it signals itself and then runs
 bytecode, where Python calls the handler."""
 
+import os
 import signal
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
+from typing import Optional
 
 FINALIZED = """
     import os, signal, sys, time
@@ -30,8 +34,34 @@ FINALIZED = """
 """
 
 
-def run_python(code: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=60)
+LIBRARY = """
+    import os, signal
+
+    def work(then=None):
+        os.kill(os.getpid(), signal.SIGINT)
+        total = 0
+        for i in range(100000):  # the handler runs here, inside the library
+            total += i
+        print("the library ran to its end", flush=True)
+        return then() if then else total
+"""
+
+
+def run_python(code: str, library: Optional[Path] = None) -> subprocess.CompletedProcess:
+    """`code` run by a new interpreter; `library`, a folder named site-packages, on its path as installed packages
+    are."""
+    path = [str(library or ""), os.environ.get("PYTHONPATH")]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, path))}
+    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=60,
+                          env=env)
+
+
+def installed_library(tmp_path: Path) -> Path:
+    """A folder of installed packages holding `slowlib`, whose `work` requests a stop and then runs on."""
+    folder = tmp_path / "site-packages"
+    folder.mkdir()
+    (folder / "slowlib.py").write_text(textwrap.dedent(LIBRARY))
+    return folder
 
 
 def test_a_request_a_finalizer_swallowed_comes_again_outside_it():
@@ -104,3 +134,52 @@ def test_a_request_while_the_command_line_parses_says_interrupted():
     sys.exit(cli.main())
     """)
     assert (result.returncode, result.stderr) == (130, "interrupted\n"), result.stderr
+
+
+def test_a_request_inside_a_library_is_raised_when_the_library_returns(tmp_path):
+    """Raised inside a library's Python, which torch's or Taichi's C++ may have called, it would abort Python
+    ("terminate called after throwing an instance of 'pybind11::error_already_set'"): it waits for the caller."""
+    result = run_python(FINALIZED + """
+    import slowlib
+    try:
+        slowlib.work()
+        print("the caller's next line ran", flush=True)
+    except KeyboardInterrupt:
+        print("interrupted", flush=True)
+    """, installed_library(tmp_path))
+    assert result.stdout.splitlines() == ["the library ran to its end", "interrupted"], result.stdout + result.stderr
+    assert result.stderr == ""
+
+
+def test_a_request_inside_a_library_is_raised_when_it_calls_softarm(tmp_path):
+    """A library that calls back into softarm's code (Typer calling the command, a trainer the environment) does not
+    keep the request from it until the library returns."""
+    result = run_python(FINALIZED + """
+    import slowlib
+    from softarm.config import load_config as callback  # any function of softarm's
+    try:
+        slowlib.work(then=callback)
+        print("the callback returned", flush=True)
+    except KeyboardInterrupt:
+        print("interrupted", flush=True)
+    """, installed_library(tmp_path))
+    assert result.stdout.splitlines() == ["the library ran to its end", "interrupted"], result.stdout + result.stderr
+
+
+def test_a_second_request_inside_a_library_escalates_when_the_library_returns(tmp_path):
+    result = run_python(FINALIZED + """
+    import slowlib
+    from softarm.interrupt import Escalated
+    with stop_on_signal() as caught:
+        os.kill(os.getpid(), signal.SIGTERM)  # the first request: a flag the job checks
+        try:
+            slowlib.work()  # the second, inside the library
+            print("the job's next line ran", flush=True)
+        except Escalated:
+            print("escalated after", len(caught), "requests", flush=True)
+    import sys
+    print("tracing", sys.gettrace(), flush=True)
+    """, installed_library(tmp_path))
+    assert result.stdout.splitlines() == ["the library ran to its end", "escalated after 2 requests", "tracing None"], \
+        result.stdout + result.stderr
+    assert result.stderr == ""
