@@ -148,10 +148,12 @@ def _at_next_line(frame: FrameType, event: str, _arg: Any) -> Optional[Callable[
 
 
 def _kind(frame: FrameType) -> str:
-    """"library" (an installed package's code, softarm's own excepted), "standard" (Python's library) or "own"."""
+    """"library" (an installed package's code, softarm's own excepted), "standard" (Python's library, and code made
+    at run time, a dataclass's `__init__`, which belongs to whoever calls it) or "own" (a script's own top level,
+    `python -c`'s, included)."""
     file = frame.f_code.co_filename
-    if file.startswith("<frozen "):
-        return "standard"
+    if file.startswith("<"):
+        return "own" if frame.f_back is None and not file.startswith("<frozen ") else "standard"
     own, libraries, standard = _roots()
     if file.startswith(own):
         return "own"

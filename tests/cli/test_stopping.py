@@ -35,7 +35,7 @@ FINALIZED = """
 
 
 LIBRARY = """
-    import os, signal
+    import dataclasses, functools, os, signal
 
     def work(then=None):
         os.kill(os.getpid(), signal.SIGINT)
@@ -44,6 +44,15 @@ LIBRARY = """
             total += i
         print("the library ran to its end", flush=True)
         return then() if then else total
+
+    @dataclasses.dataclass
+    class Made:  # its __init__ is made at run time: no file of the library's holds it
+        request: object = dataclasses.field(default_factory=functools.partial(os.kill, os.getpid(), signal.SIGINT))
+
+    def make():
+        made = Made()  # the handler runs in Made.__init__, after the request
+        print("the library ran to its end", flush=True)
+        return made
 """
 
 
@@ -149,6 +158,18 @@ def test_a_request_inside_a_library_is_raised_when_the_library_returns(tmp_path)
     """, installed_library(tmp_path))
     assert result.stdout.splitlines() == ["the library ran to its end", "interrupted"], result.stdout + result.stderr
     assert result.stderr == ""
+
+
+def test_a_request_in_code_a_library_made_at_run_time_waits_for_the_library_too(tmp_path):
+    result = run_python(FINALIZED + """
+    import slowlib
+    try:
+        slowlib.make()
+        print("the caller's next line ran", flush=True)
+    except KeyboardInterrupt:
+        print("interrupted", flush=True)
+    """, installed_library(tmp_path))
+    assert result.stdout.splitlines() == ["the library ran to its end", "interrupted"], result.stdout + result.stderr
 
 
 def test_a_request_inside_a_library_is_raised_when_it_calls_softarm(tmp_path):
