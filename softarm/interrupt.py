@@ -10,6 +10,7 @@ import site
 import sys
 import sysconfig
 from contextlib import contextmanager
+from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 from types import FrameType
@@ -83,7 +84,6 @@ def stop_on_signal() -> Iterator[list[int]]:
             _open[-1].extend(caught[len(inherited):])
 
 
-
 def raise_in_own_code(error: BaseException, frame: Optional[FrameType]) -> None:
     """Raise `error` from a signal handler where the main thread is (`frame`), unless it is running a library's
     Python: C++ may have called that (torch, Taichi, through pybind11), and an exception there aborts the whole
@@ -94,14 +94,21 @@ def raise_in_own_code(error: BaseException, frame: Optional[FrameType]) -> None:
     caller = _own_caller(frame)
     if caller is None:
         raise error
-    if not _pending:
-        _pending.append(sys.gettrace())
-    _pending[1:] = [error, caller]
+    before = _waiting.pop().before if _waiting else sys.gettrace()
+    _waiting.append(_Waiting(before, error, caller))
     caller.f_trace = _at_next_line
     sys.settrace(_until_own_code)
 
 
-_pending: list[Any] = []  # a deferred stop: the trace function before it, the error, the frame to raise it in
+@dataclass
+class _Waiting:
+    """A deferred stop: the trace function in force before it, the error, the frame to raise it in."""
+    before: Optional[Callable[..., Any]]
+    error: BaseException
+    frame: FrameType
+
+
+_waiting: list[_Waiting] = []  # the deferred stop, if one waits
 
 
 def _own_caller(frame: Optional[FrameType]) -> Optional[FrameType]:
@@ -118,32 +125,31 @@ def _own_caller(frame: Optional[FrameType]) -> Optional[FrameType]:
 
 def _due() -> BaseException:
     """The deferred stop, tracing as it was before it."""
-    before, error, frame = _pending
-    _pending.clear()
-    frame.f_trace = None
-    sys.settrace(before)
-    return error
+    waiting = _waiting.pop()
+    waiting.frame.f_trace = None
+    sys.settrace(waiting.before)
+    return waiting.error
 
 
 def _until_own_code(frame: FrameType, event: str, _arg: Any) -> None:
     """The trace function while a stop waits: own code a library calls raises it at its start; no frame is traced
     for its own sake."""
-    if _pending and event == "call" and _kind(frame) == "own":
+    if _waiting and event == "call" and _kind(frame) == "own":
         raise _due()
 
 
 def _at_next_line(frame: FrameType, event: str, _arg: Any) -> Optional[Callable[..., Any]]:
     """The waiting frame's trace function: its next line raises the stop; should it return first, its caller
     waits instead."""
-    if not _pending or _pending[2] is not frame:
+    if not _waiting or _waiting[0].frame is not frame:
         return None
     if event == "exception":
         return _at_next_line
     if event == "line" or frame.f_back is None:
         raise _due()
     frame.f_trace = None
-    _pending[2] = _own_caller(frame.f_back) or frame.f_back
-    _pending[2].f_trace = _at_next_line
+    _waiting[0].frame = _own_caller(frame.f_back) or frame.f_back
+    _waiting[0].frame.f_trace = _at_next_line
     return None
 
 
