@@ -134,6 +134,37 @@ def test_the_threshold_keeps_false_alarms_within_the_rate():
         assert sum(len(alarm_onsets(s, lower)) for s, _ in series) > alarms
 
 
+def test_an_alarm_that_started_while_the_world_acted_is_no_false_alarm():
+    """A minute of calm surprise about 1, with a poke every 3 s whose surprise of 50 decays over the 20 samples after
+    it ends: those alarms began in the pokes, so the calm stretches after them start none, and the threshold stays
+    at the calm surprise's own level; counted as starting in each stretch, they would set it near the decay's."""
+    rng = np.random.default_rng(7)
+    surprise = 1.0 + 0.1 * rng.standard_normal(6000)
+    calm = np.ones(6000, bool)
+    for start in range(150, 6000, 300):
+        calm[start:start + 10] = False
+        surprise[start:start + 10] = 50.0
+        surprise[start + 10:start + 30] = 50.0 * 0.8 ** np.arange(1, 21)
+    threshold = alarm_threshold([(surprise, calm)], DT, 1.0)
+    assert threshold < 1.5
+    assert calm[alarm_onsets(surprise, threshold)].sum() <= 1  # started in calm: within the rate of 1 a minute
+
+
+def test_the_threshold_keeps_the_rate_at_every_threshold_above_it():
+    """A minute of calm with one alarm-worthy swing that dips to 5.5 between two peaks of 10: below 5.5 it is one
+    alarm (within one a minute), between 5.5 and 10 two. The lowest threshold within the rate would sit just above
+    the calm level, where a slightly higher one already breaks the rate; the threshold is the lowest that holds at
+    every threshold above it, the swing's peak."""
+    rng = np.random.default_rng(3)
+    surprise = 1.0 + 0.1 * rng.standard_normal(6000)
+    surprise[3000:3040] = np.r_[np.linspace(2, 10, 10), np.linspace(10, 5.5, 10), np.linspace(5.5, 10, 10),
+                                np.linspace(10, 2, 10)]
+    series = [(surprise, np.ones(6000, bool))]
+    threshold = alarm_threshold(series, DT, 1.0)
+    assert len(alarm_onsets(surprise, 6.0)) == 2 and len(alarm_onsets(surprise, 2.5)) == 1  # the count is not monotone
+    assert threshold >= 9.99 and len(alarm_onsets(surprise, threshold)) == 0
+
+
 def test_smoothing_is_the_exponential_average_and_the_reader_equals_the_series():
     values = np.array([np.nan, 4.0, 1.0, np.nan, 7.0])
     a = 1 / SMOOTHING
