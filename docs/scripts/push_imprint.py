@@ -19,6 +19,7 @@ import numpy as np
 from softarm.config.load import config_from_dict
 from softarm.imagine.trained import TrainedModel
 from softarm.record.reader import read_recording
+from softarm.record.recording import Recording
 from softarm.sim.simulate import simulate
 from softarm.suite.manifest import read_suite
 
@@ -40,24 +41,24 @@ def simulated_again(path: Path, out: Path, pushes: bool) -> Path:
 def main(checkpoint: str, folder: str) -> None:
     model, suite = TrainedModel(checkpoint, "cpu"), read_suite(folder)
     scale, felt = model.imaginer.surprise.scale, list(model.imaginer.surprise.felt)
+
+    def read(path: Path, sensing: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray, Recording]:
+        """The normalised felt stretch, the surprise and the times at the imagined frames, and the recording."""
+        reading = model.read(path, sensing)
+        imaginer = model.imaginer_for(reading.config)
+        _, targets = imaginer.windows(reading.inputs)
+        return (imaginer.inputs.normalise(reading.inputs)[:, felt], imaginer.predict(reading.inputs).surprise,
+                reading.recording.times[targets], reading.recording)
+
     rows = []
     with tempfile.TemporaryDirectory() as calm_folder:
         for case in (c for c in suite.cases if c.family == "push"):
-            answers = {}
+            pushed, surprise, times, recording = read(case.path, case.sensing)
             again = simulated_again(case.path, Path(calm_folder) / f"again_{case.path.name}", True)
-            same = read_recording(again, nodes=False).stretch, read_recording(case.path, nodes=False).stretch
-            if not np.array_equal(*same):
+            if not np.array_equal(read_recording(again, nodes=False).stretch, recording.stretch):
                 raise SystemExit(f"{case.path.name} simulated again from its metadata differs: no imprint to measure")
-            calm = simulated_again(case.path, Path(calm_folder) / case.path.name, False)
-            for name, path in (("push", case.path), ("calm", calm)):
-                reading = model.read(path, case.sensing)
-                imaginer = model.imaginer_for(reading.config)
-                _, targets = imaginer.windows(reading.inputs)
-                stretch = imaginer.inputs.normalise(reading.inputs)[:, felt]
-                answers[name] = (stretch, imaginer.predict(reading.inputs).surprise, reading.recording.times[targets],
-                                 reading.recording)
-            pushed, surprise, times, recording = answers["push"]
-            calm, calm_surprise, _, _ = answers["calm"]
+            calm, calm_surprise, _, _ = read(simulated_again(case.path, Path(calm_folder) / case.path.name, False),
+                                             case.sensing)
             imprint = (pushed - calm) / scale
             unforeseen = np.full_like(imprint, np.nan)
             unforeseen[2:] = imprint[2:] - 2 * imprint[1:-1] + imprint[:-2]
