@@ -29,7 +29,7 @@ from softarm.record.reader import Recording
 from softarm.trust.alarm import alarm_onsets, alarm_threshold, runs
 from softarm.trust.correction import fit_correction
 from softarm.trust.scoring import auroc
-from softarm.trust.surprise import LAGS, SurpriseModel, feature_width, linear_width, smoothed
+from softarm.trust.surprise import LAGS, SurpriseModel, feature_width, linear_width, told
 from softarm.trust.surprise_fit import BLOCKS, RIDGE, _quiet, _ridge, _spread_map, _spreads, fit_innovation
 
 KINDS = ("push", "payload", "stiffness", "obstacle")
@@ -108,7 +108,7 @@ def surprises(surprise: SurpriseModel, corpus: list[dict], residuals: list[np.nd
     innovation = (fit_innovation([e / np.sqrt(np.exp(d @ spread))[:, None] for e, d in zip(errors, designs)],
                                  designs, quiet) if innovated else None)
     judge = replace(surprise, spread=spread, innovation=innovation)
-    series = [smoothed(judge.values(e, d, np.zeros_like(e))[0]) for e, d in zip(errors, designs)]
+    series = [told(judge.values(e, d, np.zeros_like(e))[0]) for e, d in zip(errors, designs)]
     return [*series, alarm_threshold([(s, c["calm"]) for s, c in zip(series, corpus)], 0.01, 1.0)]
 
 

@@ -41,7 +41,7 @@ CONFIDENCE_SCHEMA = ("softarm.ImaginationConfidence", json_schema(
 SURPRISE_SCHEMA = ("softarm.ImaginationSurprise", json_schema(
     "softarm.ImaginationSurprise", "What the stretch felt beyond what the forward model expected from the arm's state "
     "and command: the squared residual in units of its spread on undisturbed motion, averaged over the sensors and "
-    "smoothed (about 1 undisturbed); null until the first prediction",
+    "smoothed (about 1 undisturbed); null until it speaks, at the 75th sample",
     {"surprise": {"type": ["number", "null"], "minimum": 0}}))
 ALARM_SCHEMA = ("softarm.ImaginationAlarm", json_schema(
     "softarm.ImaginationAlarm", "The surprise is above the alarm threshold set on undisturbed training motion",

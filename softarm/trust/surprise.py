@@ -24,7 +24,9 @@ last few of them did not foresee (`softarm.trust.innovation`). The surprise is t
 about 1 while the world leaves the arm alone: the mean over sensors of the squared residual in units of each
 sensor's spread over that expectation, and the mean squared innovation over its own; smoothed over `SMOOTHING`
 samples. The first holds a load that stays, the second marks what changed at this sample. The alarm fires while
-the surprise exceeds the threshold.
+the surprise exceeds the threshold. The surprise is silent (NaN) until sample `WARM`: its spread map and its
+innovation were fitted only where the vigour averages had settled and every echo was an error made, and before
+that an arm starting to move (its averages still at rest, its echoes zero) reads as a disturbance it is not.
 
 Sensors noisier than those the model was fitted on (`heard_through`) would make every sample surprising. Their
 white noise (and quantisation) is known, so its share is expected too: the residual's extra variance through the
@@ -53,6 +55,7 @@ FLOOR = 1e-6         # added to the vigour averages before their logarithm (norm
 NOVELTY_FLOOR = 1e-3  # added to the squared Mahalanobis length before its logarithm
 VIGOURS = 3          # signals averaged per window: stretch's 2nd and 1st differences, command's 2nd difference
 DESIGN = VIGOURS * len(WINDOWS) + 2  # the spread map's inputs: the log vigours, the log novelty, 1
+WARM = LAGS + ECHOES  # the first sample the surprise speaks at: every echo an error made, the averages settled
 
 
 def linear_width(channels: int, commands: int) -> int:
@@ -235,7 +238,7 @@ class SurpriseModel:
         return 0.5 * (plain + (news ** 2).mean(axis=1) / expected), normal
 
     def series(self, inputs: np.ndarray, states: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray]:
-        """(T,) the surprise after each sample of a normalised series (T, F); NaN until the first prediction. And
+        """(T,) the surprise after each sample of a normalised series (T, F); NaN before sample WARM. And
         (T,) the memory check's residual, smoothed the same way, from the latent model's states (T, H) after each
         sample (all NaN without a memory check or states)."""
         memory = (self.memory.residuals(states, inputs) if self.memory is not None and states is not None
@@ -246,15 +249,15 @@ class SurpriseModel:
         floors = np.zeros((len(inputs), len(self.felt)))
         floors[LAGS:] = self.noise_floors(features)
         values, _ = self.values(self.residuals(inputs, features), self.design(inputs, features), floors)
-        return smoothed(values), smoothed(memory)
+        return told(values), smoothed(memory)
 
     def online(self) -> "SurpriseReader":
         return SurpriseReader(self)
 
     def to_state(self) -> dict[str, Any]:
         return {"kind": KIND, "lags": LAGS, "windows": list(WINDOWS), "smoothing": SMOOTHING, "echoes": ECHOES,
-                "weights": self.weights, "scale": self.scale, "spread": self.spread, "precision": self.precision,
-                "threshold": self.threshold, "felt": list(self.felt),
+                "warm": WARM, "weights": self.weights, "scale": self.scale, "spread": self.spread,
+                "precision": self.precision, "threshold": self.threshold, "felt": list(self.felt),
                 "command": list(self.command),
                 **({"memory": self.memory.to_state()} if self.memory is not None else {}),
                 **({"correction": self.correction.to_state()} if self.correction is not None else {}),
@@ -272,10 +275,11 @@ class SurpriseModel:
 
     @staticmethod
     def current(state: dict[str, Any]) -> bool:
-        """Whether a checkpoint's surprise state is this softarm's kind (earlier ones knew no innovation)."""
-        settings = [state.get(key) for key in ("kind", "lags", "windows", "smoothing", "echoes")]
+        """Whether a checkpoint's surprise state is this softarm's kind (earlier ones knew no innovation, or set
+        their threshold on a surprise that spoke before it was warm)."""
+        settings = [state.get(key) for key in ("kind", "lags", "windows", "smoothing", "echoes", "warm")]
         plain = all(isinstance(value, (str, int, float, list)) for value in settings)
-        return plain and settings == [KIND, LAGS, list(WINDOWS), SMOOTHING, ECHOES]
+        return plain and settings == [KIND, LAGS, list(WINDOWS), SMOOTHING, ECHOES, WARM]
 
 
 FIRST = np.array([2, 1, 2])  # the first sample at which each vigour signal is defined
@@ -332,6 +336,14 @@ def smoothed(values: np.ndarray) -> np.ndarray:
     return out
 
 
+def told(values: np.ndarray) -> np.ndarray:
+    """The surprise as replay and the alarm see it, from its values before smoothing (T,; `SurpriseModel.values`
+    over a whole series): silent before sample WARM, then smoothed."""
+    heard = np.array(values, np.float64)
+    heard[:WARM] = np.nan
+    return smoothed(heard)
+
+
 class SurpriseReader:
     """The surprise sample by sample (a robot's loop calls it every 10 ms): the last LAGS samples, from which the
     forward model's features are built as the batch builds them, the vigour averages, the last ECHOES errors, the
@@ -368,7 +380,8 @@ class SurpriseReader:
             length = float(x @ m.precision @ x) / len(x) - self.novelty_shift
             self.design[-2] = np.log(max(length, 0.0) + NOVELTY_FLOOR)  # `SurpriseModel.novelty`
             value, normal = m.values(residual[None], self.design[None], m.noise_floors(row), self.echoes[None])
-            values[0] = float(value[0])
+            if self.seen >= WARM:
+                values[0] = float(value[0])
             if m.innovation is not None:  # this error joins the echoes, newest first (`innovation.echoes`)
                 self.echoes[len(residual):] = self.echoes[:-len(residual)].copy()
                 self.echoes[:len(residual)] = normal[0]

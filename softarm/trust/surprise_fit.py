@@ -20,7 +20,7 @@ from softarm.trust.alarm import alarm_threshold
 from softarm.trust.correction import fit_correction
 from softarm.trust.innovation import ECHOES, Innovation, echoes
 from softarm.trust.memory_check import MemoryCheck
-from softarm.trust.surprise import DESIGN, LAGS, WINDOWS, SurpriseModel, feature_width, linear_width, smoothed
+from softarm.trust.surprise import DESIGN, LAGS, WINDOWS, SurpriseModel, feature_width, linear_width, told
 
 RIDGE = 1e-8          # the forward model's L2 penalty, relative to its mean squared feature
 PRECISION_RIDGE = 1e-6  # added to the linear features' second moment before it is inverted, relative to its trace
@@ -73,7 +73,7 @@ def fit_surprise(pieces: Sequence[Piece], felt: Sequence[int], command: Sequence
     innovation = fit_innovation([e / np.sqrt(np.exp(d @ spread))[:, None] for e, d in zip(errors, designs)],
                                 designs, quiet)
     judge = replace(probe, spread=spread, innovation=innovation)
-    series = [(smoothed(judge.values(e, d, np.zeros_like(e))[0]), c) for e, d, c in zip(errors, designs, calm)]
+    series = [(told(judge.values(e, d, np.zeros_like(e))[0]), c) for e, d, c in zip(errors, designs, calm)]
     threshold = alarm_threshold(series, frame_dt, false_alarms_per_minute)
     full = _forward([folds[f] for f in names], linear, felt, command, device)
     return replace(full, scale=scale, spread=spread, innovation=innovation, threshold=threshold)

@@ -11,7 +11,7 @@ from mcap.reader import make_reader
 from mcap_protobuf.decoder import DecoderFactory
 
 from softarm.imagine.replay_data import compute_replay
-from softarm.trust.surprise import LAGS
+from softarm.trust.surprise import WARM
 from tests.helpers.cli import RERUN, assert_one_line_error, softarm
 
 pytestmark = pytest.mark.slow  # each test replays a trained checkpoint through the CLI: seconds
@@ -63,9 +63,10 @@ def test_imagination_mcap_decodes_with_a_plain_mcap_reader(outputs, recordings, 
     assert images == [round(k * 0.01 * 1e9) for k in range(6, 400)] == [t for t, _ in ious] == [t for t, _ in trust]
     assert [t for t, _ in surprise] == [t for t, _ in alarm] == images
     replayed = compute_replay(tiny_checkpoint.checkpoint, recordings / "s1.mcap", nodes=False)
-    felt = [np.nan if v is None else v for _, v in surprise]  # null before the forward model's first prediction
+    felt = [np.nan if v is None else v for _, v in surprise]  # null before the surprise is warm
     np.testing.assert_allclose(felt, replayed.surprise[6:400], rtol=1e-6)
-    assert np.isfinite(felt[LAGS + 1 - 6:]).all() and np.nanmin(felt) >= 0  # frame k + 1 from sample k on
+    assert np.isnan(felt[WARM - 6]) and np.isfinite(felt[WARM + 1 - 6:]).all()  # frame k + 1 from sample k on
+    assert np.nanmin(felt) >= 0
     assert [v for _, v in alarm] == list(replayed.alarm[6:400])
     assert all(0 <= v <= 1 for _, v in ious) and all(0 < v <= 1 for _, v in trust)
     info = meta["softarm.imagination"]
