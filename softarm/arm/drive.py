@@ -3,9 +3,9 @@
 `product_of_sines` (the paper): f = A prod_i sin(2 pi f_i tau). `sum_of_sines`: f = sum_i a_i
 sin(2 pi f_i tau + phi_i), listed or drawn from a band (docs/model.md, Excitation). Arms of a batch
 differ only by their seed: arm i of a run with seed s uses seed s + i, so a batch arm is the same run
-as a single-arm run with that seed. Seed 0 takes t0 and the amplitude as configured; every other seed
-draws t0 (and, with amplitude_jitter, an amplitude scale) from its own generator; with a band, every
-seed draws its components.
+as a single-arm run with that seed. Seed 0 takes t0, the amplitude and the rhythm as configured; every
+other seed draws t0 (and, with amplitude_jitter and rhythm_jitter, an amplitude and a frequency scale)
+from its own generator; with a band, every seed draws its components.
 """
 
 from dataclasses import dataclass
@@ -69,20 +69,23 @@ class Drive:
 
 
 def drive_for_seed(excitation: ExcitationConfig, seed: int) -> Drive:
-    """The drive of the arm with this seed (seed 0: t0 and amplitude exactly as configured)."""
-    offset, scale = excitation.time_offset, 1.0
+    """The drive of the arm with this seed (seed 0: t0, amplitude and frequencies exactly as configured)."""
+    offset, scale, rhythm = excitation.time_offset, 1.0, 1.0
     if seed != 0:
         rng = np.random.default_rng(seed)
         offset += float(rng.uniform(0.0, excitation.offset_range))
         scale = float(rng.uniform(1 - excitation.amplitude_jitter, 1 + excitation.amplitude_jitter))
+        rhythm = float(rng.uniform(1 - excitation.rhythm_jitter, 1 + excitation.rhythm_jitter))
     common = {"kind": excitation.kind, "time_offset": offset, "direction": tuple(excitation.direction)}
     if excitation.kind == PRODUCT:
-        return Drive(**common, frequencies=tuple(excitation.frequencies), amplitude=excitation.amplitude * scale)
+        return Drive(**common, frequencies=tuple(f * rhythm for f in excitation.frequencies),
+                     amplitude=excitation.amplitude * scale)
     sines = excitation.sum_of_sines
     if sines.amplitudes:
-        return Drive(**common, frequencies=tuple(sines.frequencies), phases=tuple(sines.phases),
+        return Drive(**common, frequencies=tuple(f * rhythm for f in sines.frequencies), phases=tuple(sines.phases),
                      amplitudes=tuple(a * scale for a in sines.amplitudes))
-    return Drive(**common, **multisine(sines.band, sines.components, sines.rms * scale, seed))
+    drawn = multisine(sines.band, sines.components, sines.rms * scale, seed)
+    return Drive(**common, **{**drawn, "frequencies": tuple(f * rhythm for f in drawn["frequencies"])})
 
 
 def multisine(band: tuple[float, ...], components: int, rms: float, seed: int) -> dict[str, tuple[float, ...]]:

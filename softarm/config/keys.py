@@ -107,6 +107,7 @@ KEYS: dict[str, Key] = {
     "excitation.time_offset": Key("s"),
     "excitation.offset_range": Key("s", NON_NEGATIVE),
     "excitation.amplitude_jitter": Key(rule=between(0, 1)),
+    "excitation.rhythm_jitter": Key(rule=between(0, 1)),
     "excitation.sum_of_sines.amplitudes": Key("m", Rule("must all be >= 0 (m)", lambda v: all(a >= 0 for a in v))),
     "excitation.sum_of_sines.frequencies": Key("Hz", Rule("must all be > 0 (Hz)", lambda v: all(f > 0 for f in v))),
     "excitation.sum_of_sines.phases": Key("rad"),

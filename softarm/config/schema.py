@@ -47,6 +47,7 @@ class ExcitationConfig:
     offset_range: float
     amplitude_jitter: float
     sum_of_sines: SumOfSinesConfig
+    rhythm_jitter: float = 0.0  # recordings made before it existed played every arm at the listed frequencies
 
 
 @dataclass(frozen=True)

@@ -80,6 +80,28 @@ def test_amplitude_jitter_scales_every_kind():
         assert len(scales) == 3
 
 
+def test_rhythm_jitter_scales_every_kinds_frequencies_by_the_seeds_third_draw():
+    """The frequency scale is NumPy's third uniform draw of the seed (after t0 and the amplitude scale), so a seed's
+    t0 and amplitude are those it drew before the key existed; seed 0 keeps the configured rhythm."""
+    listed = {"excitation.kind": "sum_of_sines", "excitation.sum_of_sines.amplitudes": [0.001, 0.002],
+              "excitation.sum_of_sines.frequencies": [0.7, 2.5], "excitation.sum_of_sines.phases": [0.0, 1.0]}
+    for overrides, base in (({}, (2.11, 3.73, 4.33)), (listed, (0.7, 2.5))):
+        excitation = load_config(overrides={**overrides, "excitation.rhythm_jitter": 0.3}).excitation
+        steady = load_config(overrides=overrides).excitation
+        assert drive_for_seed(excitation, 0).frequencies == base
+        for seed in (1, 7, 123):
+            draws = np.random.default_rng(seed).uniform(0.0, 1.0, 3)
+            drive, before = drive_for_seed(excitation, seed), drive_for_seed(steady, seed)
+            np.testing.assert_allclose(drive.frequencies, np.array(base) * (0.7 + 0.6 * draws[2]), rtol=1e-12)
+            assert (drive.time_offset, drive.amplitude, drive.amplitudes) == (
+                before.time_offset, before.amplitude, before.amplitudes)
+            assert before.frequencies == base
+    drawn = band_config(**{"excitation.rhythm_jitter": 0.3})
+    factor = 0.7 + 0.6 * np.random.default_rng(4).uniform(0.0, 1.0, 3)[2]
+    np.testing.assert_allclose(drive_for_seed(drawn, 4).frequencies,
+                               np.array(drive_for_seed(band_config(), 4).frequencies) * factor, rtol=1e-12)
+
+
 def test_metadata_names_exactly_the_parameters_of_the_kind():
     paper = drive_for_seed(load_config().excitation, 0).parameters()
     assert paper == {"kind": "product_of_sines", "time_offset": 0.0, "direction": [1.0, 0.0], "amplitude": 0.004,

@@ -49,6 +49,7 @@ def test_every_default_key_is_documented_in_the_default_file():
     ({"run.arms": 1.5}, ["run.arms", "integer"]),
     ({"run.arms": True}, ["run.arms", "integer"]),
     ({"excitation.amplitude_jitter": 1.0}, ["excitation.amplitude_jitter", "[0, 1)"]),
+    ({"excitation.rhythm_jitter": -0.1}, ["excitation.rhythm_jitter", "[0, 1)"]),
     ({"sensors.pairs": [[4, 4]]}, ["sensors.pairs[0]", "two different nodes"]),
     ({"excitation.frequencies": []}, ["excitation.frequencies", "at least one"]),
     ({"body.length": float("nan")}, ["body.length", "finite"]),
