@@ -12,12 +12,11 @@ from typing import Callable, Optional, Union
 
 from softarm.config import load_config
 from softarm.corpus.manifest import INCOMPLETE, MANIFEST
-from softarm.corpus.presets import PRESETS, SEED_BLOCK, arms_per_group, seeds_of, world_mix
+from softarm.corpus.presets import DEFAULT_ARMS, PRESETS, SEED_BLOCK, arms_per_group, seeds_of, world_mix
 from softarm.errors import ConfigError
 from softarm.files import claimed, made_folders, write_json
 from softarm.sim.groups import fresh_manifest, planned_paths, simulate_groups
 
-DEFAULT_ARMS = 64
 DEFAULT_DURATION = 60.0  # s per arm
 
 

@@ -3,11 +3,13 @@
 
 import json
 
+import numpy as np
 import pytest
 
-from softarm.arm.drive import HELD_OUT_SEED_BASE
+from softarm.arm.drive import HELD_OUT_SEED_BASE, drive_for_seed
+from softarm.config import load_config
 from softarm.corpus.build import write_corpus
-from softarm.corpus.presets import PRESETS, arms_per_group, seeds_of
+from softarm.corpus.presets import DEFAULT_ARMS, PRESETS, arms_per_group, seeds_of
 from softarm.model.checkpoint import load_checkpoint
 from softarm.record.reader import read_recording
 from tests.helpers.cli import assert_one_line_error, softarm
@@ -25,6 +27,29 @@ def test_group_seeds_never_overlap_and_stay_below_the_suite():
     blocks = [range(seeds_of(k, n), seeds_of(k, n) + n) for k, n in enumerate(counts)]
     seeds = [s for block in blocks for s in block]
     assert len(set(seeds)) == len(seeds) and max(seeds) < HELD_OUT_SEED_BASE
+
+
+def test_the_general_corpus_plays_the_papers_drive_at_five_rhythms_and_between_them():
+    """The five product groups play the paper's drive at their listed rhythm, arm after arm; the last four play it
+    at a rhythm of each arm's own, drawn in four bands from 0.65 to 1.45 times the paper's, none of them the same."""
+    groups = PRESETS["general"]
+    paper = np.array(load_config().excitation.frequencies)
+    drawn = []
+    for k, (group, arms) in enumerate(zip(groups, arms_per_group(groups, DEFAULT_ARMS))):
+        excitation = load_config(overrides=group.overrides).excitation
+        if excitation.kind != "product_of_sines":
+            continue
+        ratios = np.array([drive_for_seed(excitation, seed).frequencies
+                           for seed in range(seeds_of(k, arms), seeds_of(k, arms) + arms)]) / paper
+        assert np.ptp(ratios, axis=1).max() < 1e-3  # every arm plays the paper's three frequencies scaled alike
+        if excitation.rhythm_jitter == 0:
+            assert np.ptp(ratios) < 1e-3
+        else:
+            low, high = (float(x) for x in group.name.removeprefix("product_x").split("-"))
+            assert np.all((ratios[:, 0] >= low - 1e-9) & (ratios[:, 0] <= high + 1e-9))
+            drawn.extend(ratios[:, 0])
+    assert len(drawn) == 16 and len(set(np.round(drawn, 6))) == 16
+    assert 0.65 <= min(drawn) and max(drawn) <= 1.45 and np.ptp(drawn) > 0.6
 
 
 @pytest.mark.slow
