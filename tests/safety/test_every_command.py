@@ -55,7 +55,7 @@ ROWS: dict[str, Row] = {
                     ["evaluate", "m.pt", "longsuite", "--json", "long.json"]),
     "corpus": Row(["corpus", "c", "--arms", "1", "--duration", "1", "--preset", "paper"], [],
                   bad=[["--arms", "0"], ["--duration", "nan"], ["--duration", "-2"]],
-                  long=["corpus", "longcorpus", "--arms", "16", "--duration", "200"],
+                  long=["corpus", "longcorpus", "--arms", "19", "--duration", "200"],
                   why="writes a folder the user names, no file"),
     "suite": Row(["suite", "s"], [], long=["suite", "longsuite2"],
                  why="writes a folder the user names, no file; takes no number"),

@@ -129,7 +129,7 @@ def test_a_corpus_is_one_only_with_its_manifest_and_force_leaves_nothing_of_the_
     again = softarm("corpus", "c", "--preset", "paper", "--arms", "1", "--duration", "0.3", "-q", cwd=tmp_path)
     assert again.returncode == 0, again.stderr
     assert sorted(p.name for p in (tmp_path / "c").glob("*.mcap")) == ["paper.mcap"]
-    assert_one_line_error(softarm("corpus", "d", "--arms", "2", cwd=tmp_path), "--arms 2", "15 group")
+    assert_one_line_error(softarm("corpus", "d", "--arms", "2", cwd=tmp_path), "--arms 2", "19 group")
 
 
 @pytest.mark.slow
