@@ -22,7 +22,8 @@ from softarm.learn.dataset import split_bounds
 from softarm.record.reader import read_model
 from softarm.sim.simulate import simulate
 from softarm.suite.manifest import read_suite
-from softarm.trust.detection import case_surprise, surprise_report
+from softarm.suite.scoring import CaseScorer
+from softarm.trust.detection import surprise_report
 from softarm.trust.surprise_fit import Piece, fit_surprise
 
 RHYTHMS = (0.65, 1.45)  # times the paper's frequencies
@@ -62,17 +63,8 @@ def main(checkpoint: str, corpus: str, suite: str, count: str) -> None:
     fitted = fit_surprise(pieces, shipped.felt, shipped.command, model.config.integration.frame_dt,
                           model.config.train.false_alarms_per_minute)
     model.imaginer = replace(model.imaginer, surprise=replace(fitted, memory=shipped.memory))
-    cases = []
-    for case in read_suite(suite).cases:
-        obstacles = any(d.get("kind") == "obstacle" for d in read_model(case.path).get("disturbances", []))
-        reading = model.read(case.path, case.sensing, nodes=obstacles)
-        imaginer = model.imaginer_for(reading.config)
-        _, targets = imaginer.windows(reading.inputs)
-        rec = reading.recording
-        free = np.ones(len(rec.model["masses"]), bool)
-        free[rec.model["driven"]] = False
-        cases.append(case_surprise(case.family, imaginer.predict(reading.inputs).surprise, targets, rec.times,
-                                   rec.active, rec.model.get("disturbances", []), rec.touching, rec.positions, free))
+    scorer = CaseScorer(model)  # each case's surprise exactly as `softarm evaluate` scores it
+    cases = [scorer.score(case, None)[2] for case in read_suite(suite).cases]
     report = surprise_report(cases, fitted.threshold, model.config.integration.frame_dt)
     crying = {family: rate for family, rate in report["false_alarms_per_minute_by_family"].items() if rate > 0}
     print(f"{count} added: threshold {fitted.threshold:.1f}; false alarms a minute: "
