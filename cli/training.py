@@ -23,7 +23,7 @@ def train(
     epochs_ae: Annotated[Optional[int], typer.Option(help=f"Autoencoder epochs [default: {D.train.epochs_ae}].")] = None,
     epochs_lstm: Annotated[Optional[int], typer.Option(help=f"Latent model epochs [default: {D.train.epochs_lstm}].")] = None,
     model: Annotated[Optional[str], typer.Option(help=f"Latent model: {' | '.join(LATENT_MODELS)} (window: the paper's LSTM over the last --history samples; stream: an LSTM that carries its state through the whole stream; gru: the same with a GRU; tcn: a causal temporal convolution network over the last 2.56 s) [default: {D.train.model}].")] = None,
-    inputs: Annotated[Optional[str], typer.Option(metavar="NAME,...", help=f"Input channels the latent model reads, of {' | '.join(INPUT_CHANNELS)} [default: the stretch for up to 4 recordings, stretch,drive for a corpus].")] = None,
+    inputs: Annotated[Optional[str], typer.Option(metavar="NAME,...", help=f"Input channels the latent model reads, of {' | '.join(INPUT_CHANNELS)} [default: the stretch for up to 4 recordings; for a corpus stretch,bend,drive, the bend where every recording carries it].")] = None,
     history: Annotated[Optional[int], typer.Option(help=f"Input samples the window model sees, and the first frame any model imagines [default: {D.train.history}].")] = None,
     include_current: Annotated[Optional[bool], typer.Option("--include-current/--previous-only", help="End the window at the predicted frame's own sample [default: previous only, as the paper].", show_default=False)] = None,
     latent: Annotated[Optional[int], typer.Option(help=f"Latent features of the autoencoder [default: {D.train.latent}].")] = None,
@@ -62,7 +62,8 @@ def train(
         stop_interrupted(f"interrupted before the first epoch finished: nothing was written{earlier}")
     if not quiet:
         out.print(metrics_table(result.metrics))
-        say(f"checkpoint {result.checkpoint}, metrics {result.metrics_path}, {result.wall_seconds:.0f} s")
+        say(f"checkpoint {result.checkpoint} (reads {', '.join(result.metrics['inputs'])}), "
+            f"metrics {result.metrics_path}, {result.wall_seconds:.0f} s")
 
 
 def adapt(

@@ -1,4 +1,4 @@
-"""Print an evaluation JSON (`softarm evaluate ... --json FILE`) as the README's Markdown table.
+"""Print an evaluation JSON (`softarm evaluate ... --json FILE`) as the results pages' Markdown table.
 
     python docs/scripts/suite_table.py recordings/paper_suite.json
 """
@@ -20,21 +20,26 @@ def tip(row: dict) -> str:
 
 def main(path: str) -> None:
     evaluation = json.load(open(path))
-    print("| family | frames | IoU | BCE | tip mean / median (mm) | skill | mean-frame IoU | ridge IoU (skill) | AE ceiling IoU |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("| family | frames | IoU | BCE | tip mean / median (mm) | skill | mean-frame IoU | ridge IoU (skill) | "
+          "node ridge IoU | AE ceiling IoU |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for name, row in evaluation["families"].items():
         b = row["baselines"]
+        nodes = number(b["ridge_nodes"]["iou"], 3) if "ridge_nodes" in b else "–"
         print(f"| {name} | {row['frames']} | **{number(row['iou'], 3)}** | {number(row['bce'], 4)} | "
               f"{tip(row)} | {number(row['skill'], 2)} | {number(b['mean_frame']['iou'], 3)} | "
-              f"{number(b['ridge']['iou'], 3)} ({number(b['ridge']['skill'], 2)}) | {number(b['ae_ceiling']['iou'], 3)} |")
-    m = evaluation["mean"]
-    print(f"| **mean of families** | | **{number(m['iou'], 3)}** | {number(m['bce'], 4)} | "
-          f"{tip(m)} | {number(m['skill'], 2)} | | | |")
+              f"{number(b['ridge']['iou'], 3)} ({number(b['ridge']['skill'], 2)}) | {nodes} | "
+              f"{number(b['ae_ceiling']['iou'], 3)} |")
+    means = [(f"mean of {group} families", m) for group, m in evaluation.get("group_means", {}).items()]
+    for label, m in [*means, ("mean of all families", evaluation["mean"])]:
+        print(f"| **{label}** | | **{number(m['iou'], 3)}** | {number(m['bce'], 4)} | "
+              f"{tip(m)} | {number(m['skill'], 2)} | | | | |")
     if "confidence" in evaluation:
         c = evaluation["confidence"]
-        print(f"\nConfidence over {c['frames']} frames: Spearman correlation with IoU {number(c['spearman'], 2)}; "
-              f"IoU of the {c['least_trusted_share']:.0%} least-trusted frames {number(c['least_trusted_iou'], 3)}, "
-              f"of the rest {number(c['rest_iou'], 3)}.")
+        chosen = c["methods"][c["default"]] if "methods" in c else c  # older evaluations held one confidence
+        print(f"\nConfidence over {chosen['frames']} frames: Spearman correlation with IoU "
+              f"{number(chosen['spearman'], 2)}; IoU of the {c['least_trusted_share']:.0%} least-trusted frames "
+              f"{number(chosen['least_trusted_iou'], 3)}, of the rest {number(chosen['rest_iou'], 3)}.")
 
 
 if __name__ == "__main__":

@@ -86,6 +86,7 @@ def training_metrics(state: TrainState) -> dict[str, Any]:
                    "imagination_predictions": min(data.window_count("imagine", t.history, t.lead), MAX_SCORED),
                    "kept_latent_features": state.latent_scaler.kept, "latent_features": int(t.latent)},
         "recordings": data.fingerprints(),
+        "inputs": list(t.inputs),  # the channels read: chosen by the data where `train.inputs` named none
     }
     held_out = [n for n, seq in enumerate(data.sequences) if seq.held_out]
     if held_out:

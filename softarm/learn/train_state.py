@@ -27,6 +27,7 @@ from softarm.model.device import torch_device
 from softarm.model.inputs import Inputs, channels, chosen_inputs
 from softarm.model.latent import LatentModel, TrainingSeries
 from softarm.model.scaler import Scaler
+from softarm.record.reader import read_model
 from softarm.registry import latent_model_class
 from softarm.trust.surprise import SurpriseModel
 
@@ -193,7 +194,9 @@ def start_state(paths: Sequence[Union[str, Path]], config: Config, out: Path, re
     saved = load_checkpoint(out) if resume else None
     if saved is not None:
         config = _saved_config(saved, config)
-    config = override(config, {"train.inputs": list(chosen_inputs(config.train.inputs, len(paths), MIN_CORPUS))})
+    models = [] if config.train.inputs else [read_model(path) for path in paths]
+    config = override(config, {"train.inputs": list(chosen_inputs(config.train.inputs, models, config,
+                                                                  MIN_CORPUS))})
     t = config.train
     device = torch_device(t.device)  # refused before the recordings are read
     data = load_dataset(paths, config, channels(config.train.inputs), stop, read)

@@ -21,7 +21,6 @@ if TYPE_CHECKING:
     from softarm.record.reader import Recording
 
 PAPER = ("stretch",)              # the paper's model: the stretch alone
-GENERAL = ("stretch", "drive")    # a model of many motions: the feeling and the command
 
 
 class InputChannel:
@@ -125,12 +124,19 @@ def channels(names: Sequence[str] = PAPER) -> tuple[InputChannel, ...]:
     return tuple(input_channel_class(name)() for name in names)
 
 
-def chosen_inputs(asked: Sequence[str], recordings: int, corpus: int) -> tuple[str, ...]:
+def chosen_inputs(asked: Sequence[str], models: Sequence[dict[str, Any]], config: Config,
+                  corpus: int) -> tuple[str, ...]:
     """The input channels of a training: those `train.inputs` lists, or when it lists none the paper's (the
-    stretch) for a few recordings and the stretch with the drive for a corpus of more than `corpus`."""
+    stretch) for a few recordings, and for a corpus of more than `corpus` (their model documents, `models`)
+    a model of many motions: the stretch, every other sensor kind each recording carries (or [sensing]
+    places), then the command. All the arm feels: a poke bends it sideways more than it stretches its edges."""
     if asked:
         return tuple(asked)
-    return GENERAL if recordings > corpus else PAPER
+    if len(models) <= corpus:
+        return PAPER
+    felt = [name for name, kind in KINDS.items()
+            if all(kind_count(model, kind(), config.sensing) for model in models)]
+    return ("stretch", *felt, "drive")
 
 
 def read_channels(chosen: Sequence[InputChannel], recording: "Recording", config: Config) -> np.ndarray:

@@ -83,7 +83,7 @@ class SurpriseModel:
     spread: np.ndarray     # (DESIGN,) log expected squared residual from [log vigours after k, log novelty, 1]
     precision: np.ndarray  # (linear_width + 1,)^2: inverse second moment of [linear features, 1] it was fitted on
     threshold: float       # the alarm fires while the surprise exceeds it
-    felt: tuple[int, ...]     # the columns of the normalised inputs that are felt (the stretch)
+    felt: tuple[int, ...]     # the columns of the normalised inputs that are felt (the sensors: stretch, bend)
     command: tuple[int, ...]  # the columns that are the command, known one sample ahead
     memory: Optional[MemoryCheck] = None  # how well the latent model's state foresees the stretch (the confidence's)
     correction: Optional[Correction] = None  # a network's correction of the prediction, on the linear features

@@ -24,6 +24,7 @@ def test_training_learns_and_beats_the_mean_frame(tiny_checkpoint):
     assert losses["latent_train"][-1] < losses["latent_train"][0]
     m = trained.metrics
     assert m["counts"] == {**m["counts"], "train_frames": 340, "test_frames": 40, "imagination_predictions": 14}
+    assert m["inputs"] == ["stretch"]  # a few recordings: the paper's model
     assert m["autoencoder_test"]["iou"] > 0.8
     model, mean = m["imagination"]["model"], m["imagination"]["mean_frame"]
     assert model["iou"] > mean["iou"] and model["bce"] < mean["bce"]

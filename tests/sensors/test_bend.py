@@ -1,6 +1,6 @@
 """Bend sensors: recorded on their own channel as the NumPy reference's positions bend the arm, read by the
-learner recorded or recomputed alike, refused in one line where no arm can carry them; the default recording
-has none."""
+learner recorded or recomputed alike, refused in one line where no arm can carry them; the default arm carries
+four, and `[]` none."""
 
 import subprocess
 import sys
@@ -63,13 +63,13 @@ def test_recorded_bend_follows_the_numpy_reference_and_passes_the_shared_checker
 
 
 @pytest.mark.slow
-def test_the_learner_reads_recorded_and_recomputed_bend_alike_and_the_default_recording_has_none(tmp_path):
+def test_the_learner_reads_recorded_and_recomputed_bend_alike_and_the_default_arm_carries_four(tmp_path):
     from softarm.sim.simulate import simulate
 
-    simulate(load_config(overrides={"run.duration": 1.0, "sensors.bend": TRIPLES, "sensing.bend_noise": 0.0}),
-             tmp_path / "b.mcap")
-    simulate(load_config(overrides={"run.duration": 1.0}), tmp_path / "plain.mcap")
+    simulate(load_config(overrides={"run.duration": 1.0, "sensing.bend_noise": 0.0}), tmp_path / "b.mcap")
+    simulate(load_config(overrides={"run.duration": 1.0, "sensors.bend": []}), tmp_path / "plain.mcap")
     recorded, plain = read_recording(tmp_path / "b.mcap"), read_recording(tmp_path / "plain.mcap")
+    assert recorded.model["bend"] == TRIPLES
     recomputed = load_config(overrides={"sensing.bend": TRIPLES})
     np.testing.assert_array_equal(sensed_kind(recorded, Bend(), load_config().sensing),
                                   sensed_kind(recorded, Bend(), recomputed.sensing))

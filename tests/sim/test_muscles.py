@@ -73,7 +73,7 @@ def test_rest_lengths_that_imply_an_arc_bend_the_arm_onto_it():
     base = {**STILL_TOP, "body.rows": rows, "body.columns": 2, "body.length": length, "body.base_width": width,
             "body.tip_width": width, "body.gravity": [0.0, 0.0], "springs.damping": 10.0,
             "integration.substeps": 100, "muscles.time_constant": 0.5,  # damped and smooth: settles in seconds
-            "sensors.pairs": [[0, 2 * rows - 1]]}
+            "sensors.pairs": [[0, 2 * rows - 1]], "sensors.bend": []}
     probe = arm_batch(load_config(overrides=base)).body
     d = probe.springs[diagonals]
     diagonal = np.linalg.norm(shape[d[:, 1]] - shape[d[:, 0]], axis=1)
