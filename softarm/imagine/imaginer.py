@@ -135,9 +135,11 @@ class Imaginer:
         return decode_codes(self.autoencoder, self.latent_scaler.inverse(normalised))
 
     def imagine(self, raw: np.ndarray) -> tuple[Prediction, np.ndarray]:
-        """The prediction and the imagined pixel probabilities (M, H, W) of a whole raw input series (T, F)."""
+        """The prediction, its pictures drawn (the calibrated confidence reads them), and the imagined pixel
+        probabilities (M, H, W) of a whole raw input series (T, F)."""
         prediction = self.predict(raw)
-        return prediction, self.decode(prediction.latents)
+        probabilities = self.decode(prediction.latents)
+        return prediction.with_picture(probabilities), probabilities
 
 
 def surprise_of(state: dict[str, Any], features: int, hidden: int) -> Optional[SurpriseModel]:

@@ -85,8 +85,9 @@ class StreamingImaginer:
             prediction = prediction.with_ridge_gap(imaginer.ridge_latents(self._window[None]))
         if imaginer.surprise is not None:  # the calibrated confidence reads both, as in a batch replay
             prediction = prediction.with_surprise(np.array([surprise]), np.array([residual]))
-        return ImaginedFrame(int(target[0]), self._draw(imaginer.latent_scaler.inverse(prediction.latents)[0]),
-                             float(imaginer.confidence(prediction)[0]), surprise,
+        drawn = self._draw(imaginer.latent_scaler.inverse(prediction.latents)[0])
+        confidence = float(imaginer.confidence(prediction.with_picture(drawn[None]))[0])  # it reads the picture too
+        return ImaginedFrame(int(target[0]), drawn, confidence, surprise,
                              bool(imaginer.surprise is not None and surprise > imaginer.surprise.threshold))
 
     def assemble(self, channels: dict[str, Any]) -> np.ndarray:

@@ -39,7 +39,8 @@ def fit_calibration(state: TrainState) -> dict[str, Any]:
         where.append(np.stack([np.full(int(keep.sum()), n), parts[-1].targets], axis=1))
     picked = evenly(sum(len(w) for w in where), MAX_FRAMES)
     held_out, where = Prediction.join(parts).take(picked), np.concatenate(where)[picked]
-    return fit_calibrated(held_out, iou_per_frame(imaginer.decode(held_out.latents), data.target_frames(where)))
+    drawn = imaginer.decode(held_out.latents)
+    return fit_calibrated(held_out.with_picture(drawn), iou_per_frame(drawn, data.target_frames(where)))
 
 
 def fit_surprise_of(state: TrainState) -> Optional[SurpriseModel]:

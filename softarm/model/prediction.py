@@ -17,6 +17,7 @@ class Prediction:
     surprise: Optional[np.ndarray] = None  # (M,) the surprise of the sample each frame is imagined from
     residual: Optional[np.ndarray] = None  # (M,) its felt residual before the vigour divides it (`model.surprise`)
     ridge_gap: Optional[np.ndarray] = None  # (M,) mean squared gap to the ridge baseline's latent from the same window
+    picture: Optional[np.ndarray] = None    # (M, 2) the decoded frame's doubt and area (`picture_of`)
 
     @property
     def confidence(self) -> np.ndarray:
@@ -38,10 +39,26 @@ class Prediction:
         """With the gap between each latent and the ridge baseline's answer `ridge` (M, K) for the same frames."""
         return replace(self, ridge_gap=((self.latents - ridge) ** 2).mean(axis=1))
 
+    def with_picture(self, probabilities: np.ndarray) -> "Prediction":
+        """With what the decoder's pixel probabilities (M, H, W) of these latents say (`picture_of`)."""
+        return replace(self, picture=picture_of(probabilities))
+
     @staticmethod
     def join(parts: Sequence["Prediction"]) -> "Prediction":
         return Prediction(*(None if any(a is None for a in arrays) else np.concatenate(arrays)
                             for arrays in zip(*(p.arrays() for p in parts))))
+
+
+def picture_of(probabilities: np.ndarray) -> np.ndarray:
+    """(M, 2) of pixel probabilities (M, H, W): the decoder's doubt, its pixels' binary entropy summed (nats), and
+    the arm's area, the probabilities summed (pixels). A latent between the codes the decoder learned draws
+    pixels it cannot decide; the same misplaced pixels cost a small arm more IoU."""
+    out = np.empty((len(probabilities), 2))
+    for start in range(0, len(probabilities), 1024):  # float64 temporaries of at most 1024 frames
+        p = np.clip(probabilities[start:start + 1024].astype(np.float64), 1e-12, 1.0 - 1e-12)
+        out[start:start + 1024, 0] = -(p * np.log(p) + (1.0 - p) * np.log1p(-p)).sum(axis=(1, 2))
+        out[start:start + 1024, 1] = p.sum(axis=(1, 2))
+    return out
 
 
 def joined_members(answers: Sequence[Prediction]) -> Prediction:

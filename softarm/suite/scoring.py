@@ -87,6 +87,7 @@ class CaseScorer:
         prediction = imaginer.predict(reading.inputs)
         rec, baselines = reading.recording, self.model.baselines
         answer = imaginer.decode(prediction.latents)
+        prediction = prediction.with_picture(answer)
         scores = score_answers(imaginer, baselines, truth, answer, windows, ceiling, rec.pixels_per_metre)
         if baselines.nodes is not None:
             scores[PRIVILEGED] = score_node_ridge(imaginer, baselines, reading.inputs, targets, truth, rec.model,

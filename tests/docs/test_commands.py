@@ -109,7 +109,6 @@ def config_files() -> dict[str, str]:
 
 
 @pytest.mark.slow
-@pytest.mark.slow
 def test_the_short_commands_run_as_written(tmp_path):
     documented = {command for _, command in SOFTARM_COMMANDS}
     for name, text in config_files().items():
