@@ -13,6 +13,13 @@ from tests.helpers.tiny import TINY
 
 
 @pytest.fixture(scope="session", autouse=True)
+def library_logs_in_the_tests_folder(tmp_path_factory):
+    """Stable-Baselines3 makes a log folder for every training, in the system's temporary folder unless told
+    (`SB3_LOGDIR`): the tests' trainings and the example runs they start (which inherit it) make theirs here."""
+    os.environ["SB3_LOGDIR"] = str(tmp_path_factory.mktemp("sb3_logs"))
+
+
+@pytest.fixture(scope="session", autouse=True)
 def taichi_on_cpu():
     """Taichi starts once per test process, on the CPU with float64, as the CLI would start it."""
     init_taichi("cpu")

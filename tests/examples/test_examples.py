@@ -23,7 +23,6 @@ def test_every_example_is_run_here():
 
 
 @pytest.mark.slow
-@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(SMALL))
 def test_the_example_runs_at_a_small_size(name, tmp_path):
     folder = [] if name == "gymnasium_ppo.py" else ["--folder", str(tmp_path / "out")]

@@ -144,7 +144,6 @@ FILE_ROWS = [name for name, row in ROWS.items() if row.out and row.inputs]
 
 
 @pytest.mark.slow
-@pytest.mark.slow
 @pytest.mark.parametrize("name", FILE_ROWS)
 def test_an_output_onto_an_input_its_part_or_its_lock_is_refused_and_the_input_kept(name, room):
     """The output written onto each input; and each input given under the name of the output's `.part` or lock
@@ -176,7 +175,6 @@ def test_an_existing_part_of_the_output_is_kept_without_force(name, room):
     assert not (room / row.out).exists()
 
 
-@pytest.mark.slow
 @pytest.mark.slow
 @pytest.mark.parametrize("name,bad", [(n, b) for n, row in ROWS.items() for b in row.bad])
 def test_a_number_out_of_range_is_refused_in_one_line_before_any_work(name, bad, room):
@@ -223,7 +221,6 @@ def interrupted(args: list[str], folder: Path, how: str) -> tuple[int, str, floa
     return process.returncode, err, time.monotonic() - start
 
 
-@pytest.mark.slow
 @pytest.mark.slow
 @pytest.mark.parametrize("name", [n for n, row in ROWS.items() if row.long])
 def test_an_interrupted_command_exits_130_says_so_keeps_its_inputs_and_leaves_no_lock(name, shared, tmp_path):
