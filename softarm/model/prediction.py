@@ -6,6 +6,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+PICTURE_BATCH = 1024  # frames `picture_of` takes at once: float64 temporaries of 36 MB each at 84 x 52 pixels
+
 
 @dataclass(frozen=True)
 class Prediction:
@@ -54,10 +56,11 @@ def picture_of(probabilities: np.ndarray) -> np.ndarray:
     the arm's area, the probabilities summed (pixels). A latent between the codes the decoder learned draws
     pixels it cannot decide; the same misplaced pixels cost a small arm more IoU."""
     out = np.empty((len(probabilities), 2))
-    for start in range(0, len(probabilities), 1024):  # float64 temporaries of at most 1024 frames
-        p = np.clip(probabilities[start:start + 1024].astype(np.float64), 1e-12, 1.0 - 1e-12)
-        out[start:start + 1024, 0] = -(p * np.log(p) + (1.0 - p) * np.log1p(-p)).sum(axis=(1, 2))
-        out[start:start + 1024, 1] = p.sum(axis=(1, 2))
+    for start in range(0, len(probabilities), PICTURE_BATCH):
+        frames = slice(start, start + PICTURE_BATCH)
+        p = np.clip(probabilities[frames].astype(np.float64), 1e-12, 1.0 - 1e-12)
+        out[frames, 0] = -(p * np.log(p) + (1.0 - p) * np.log1p(-p)).sum(axis=(1, 2))
+        out[frames, 1] = p.sum(axis=(1, 2))
     return out
 
 

@@ -25,8 +25,6 @@ def test_the_picture_is_the_decoders_doubt_and_the_arms_area():
 
 
 @pytest.mark.slow  # fits on a trained checkpoint: seconds
-
-
 def test_the_calibrated_map_is_fitted_on_the_held_out_frames(recordings, tiny_checkpoint):
     model = TrainedModel(tiny_checkpoint.checkpoint)
     calibration = model.state["calibration"]
